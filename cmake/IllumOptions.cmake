@@ -1,0 +1,34 @@
+# One INTERFACE target carries the project's warnings and compile options; every illum
+# target links it PRIVATE so the flags never leak to consumers.
+add_library(illum_options INTERFACE)
+add_library(illum::options ALIAS illum_options)
+target_compile_features(illum_options INTERFACE cxx_std_20)
+target_compile_options(illum_options INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wcast-align -Woverloaded-virtual
+  -Wnull-dereference -Wimplicit-fallthrough
+  $<$<BOOL:${ILLUM_WERROR}>:-Werror>)
+target_include_directories(illum_options INTERFACE ${PROJECT_SOURCE_DIR}/src)
+
+# Where the project's own data (built-in scenes) lives, for lookups without a path.
+set(ILLUM_DATA_DIR "${PROJECT_SOURCE_DIR}/data" CACHE PATH "illum data folder")
+# The shared test scenes beside the checkout (../shared/scenes), used by tests and benchmarks.
+get_filename_component(_illum_shared "${PROJECT_SOURCE_DIR}/../shared/scenes" ABSOLUTE)
+set(ILLUM_SHARED_SCENES "${_illum_shared}" CACHE PATH "shared test scenes folder")
+
+# illum_layer(NAME SOURCES... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# Creates target illum_NAME with alias illum::NAME: one target per folder under src/illum.
+function(illum_layer name)
+  cmake_parse_arguments(L "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  if(NOT L_SOURCES)  # header-only layer
+    add_library(illum_${name} INTERFACE)
+    add_library(illum::${name} ALIAS illum_${name})
+    target_include_directories(illum_${name} INTERFACE ${PROJECT_SOURCE_DIR}/src)
+    target_link_libraries(illum_${name} INTERFACE ${L_PUBLIC_DEPS})
+    return()
+  endif()
+  add_library(illum_${name} STATIC ${L_SOURCES})
+  add_library(illum::${name} ALIAS illum_${name})
+  target_include_directories(illum_${name} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+  target_link_libraries(illum_${name} PUBLIC ${L_PUBLIC_DEPS} PRIVATE illum::options ${L_PRIVATE_DEPS})
+  set_target_properties(illum_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package illum needs to build, test and benchmark.
+# Idempotent: packages already present are skipped by apt; `apt-get update` runs once
+# per invocation only when something is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git file
+  libembree-dev libtbb-dev libglm-dev libeigen3-dev libnanoflann-dev
+  libtinygltf-dev libtinyobjloader-dev libstb-dev libopenexr-dev
+  nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  libvulkan-dev glslc glslang-tools spirv-tools vulkan-validationlayers
+  mesa-vulkan-drivers vulkan-tools libglfw3-dev libimgui-dev
+  libgtest-dev libgmock-dev libbenchmark-dev clang-format
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+$sudo apt-get update -q
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"

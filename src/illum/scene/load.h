@@ -1,0 +1,28 @@
+// Scene loading: glTF 2.0 (.gltf/.glb), OBJ/MTL (.obj), illum scene files (.illum.json),
+// and built-in scenes by name ("cornell", "caustics", "sibenik").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "illum/scene/scene.h"
+
+namespace illum {
+
+struct LoadOptions {
+  bool load_textures = true;
+};
+
+// Loads `path_or_name`: a built-in name or a file path. Validates the result (finite
+// vertices, in-range indices and material ids), drops degenerate triangles with one
+// warning that counts them, fills missing normals and tangents. Throws illum::Error
+// with a one-line message naming the file on anything malformed.
+Scene load_scene(const std::string& path_or_name, const LoadOptions& options = {});
+
+// Names accepted by load_scene without a path.
+std::vector<std::string> builtin_scene_names();
+
+// The project's data folder: $ILLUM_DATA_DIR if set, else the one compiled in.
+std::string data_dir();
+
+}  // namespace illum
