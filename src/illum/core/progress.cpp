@@ -17,7 +17,8 @@ Progress::~Progress() { finish(); }
 bool Progress::stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
 std::string Progress::format_seconds(double s) {
-  if (s < 60.0) return fmt::format("{:.1f}s", s);
+  // Below 59.95 s the one-decimal form cannot round up to "60.0s".
+  if (s < 59.95) return fmt::format("{:.1f}s", s);
   const int total = static_cast<int>(s + 0.5);
   if (total < 3600) return fmt::format("{}m{:02d}s", total / 60, total % 60);
   return fmt::format("{}h{:02d}m", total / 3600, (total % 3600) / 60);

@@ -24,4 +24,10 @@ class Rng {
 // A 64-bit mix (splitmix64 finaliser) for deriving seeds from several integers.
 uint64_t hash_mix(uint64_t a, uint64_t b = 0, uint64_t c = 0);
 
+// The top 24 bits of `bits` as a float in [0, 1): exact, evenly spaced, and at most
+// 1 − 2⁻²⁴, so rounding can never produce 1.0.
+inline float u32_to_unit_float(uint32_t bits) {
+  return static_cast<float>(bits >> 8u) * 0x1p-24f;
+}
+
 }  // namespace illum

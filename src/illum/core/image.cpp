@@ -1,0 +1,292 @@
+#include "illum/core/image.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+namespace illum {
+
+namespace fs = std::filesystem;
+
+Image::Image(int width, int height, int channels, float fill)
+    : width_(width), height_(height), channels_(channels) {
+  ILLUM_CHECK(width >= 0 && height >= 0, "negative image size {}x{}", width, height);
+  ILLUM_CHECK(channels >= 1 && channels <= 4, "images have 1 to 4 channels, not {}", channels);
+  data_.assign(static_cast<size_t>(width) * height * channels, fill);
+}
+
+Color Image::rgb(int x, int y) const {
+  const float* p = pixel(x, y);
+  return channels_ >= 3 ? Color(p[0], p[1], p[2]) : Color(p[0]);
+}
+
+void Image::set_rgb(int x, int y, const Color& c) {
+  float* p = pixel(x, y);
+  if (channels_ >= 3) {
+    p[0] = c.r;
+    p[1] = c.g;
+    p[2] = c.b;
+  } else {
+    p[0] = luminance(c);  // grey images keep the luminance
+  }
+  if (channels_ == 2 || channels_ == 4) p[channels_ - 1] = 1.0f;
+}
+
+Color Image::sample_bilinear(float u, float v) const {
+  ILLUM_CHECK(!empty(), "bilinear lookup in an empty image");
+  // Texel centres sit at (i + 0.5) / size; wrap both neighbours so the lookup tiles.
+  const float x = u * static_cast<float>(width_) - 0.5f;
+  const float y = v * static_cast<float>(height_) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  auto wrap = [](float i, int n) {
+    const auto m = static_cast<int>(std::fmod(i, static_cast<float>(n)));
+    return m < 0 ? m + n : m;
+  };
+  const int x0 = wrap(fx, width_), x1 = (x0 + 1) % width_;
+  const int y0 = wrap(fy, height_), y1 = (y0 + 1) % height_;
+  return (1.0f - ty) * ((1.0f - tx) * rgb(x0, y0) + tx * rgb(x1, y0)) +
+         ty * ((1.0f - tx) * rgb(x0, y1) + tx * rgb(x1, y1));
+}
+
+ImageFormat image_format_from_path(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".png") return ImageFormat::kPng;
+  if (ext == ".jpg" || ext == ".jpeg") return ImageFormat::kJpeg;
+  if (ext == ".hdr") return ImageFormat::kHdr;
+  if (ext == ".exr") return ImageFormat::kExr;
+  throw Error(
+      fmt::format("{}: unsupported image format '{}' (use .png, .jpg, .hdr or .exr)", path, ext));
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading
+
+namespace {
+
+struct StbFree {
+  void operator()(void* p) const { stbi_image_free(p); }
+};
+
+const char* stb_reason() {
+  const char* reason = stbi_failure_reason();
+  return reason ? reason : "unknown error";
+}
+
+// 8-bit channels that carry colour (not alpha) are sRGB-decoded.
+bool is_colour_channel(int c, int channels) {
+  return !((channels == 2 || channels == 4) && c == channels - 1);
+}
+
+Image read_stb_ldr(const std::string& path, bool srgb) {
+  int w = 0, h = 0, n = 0;
+  const bool sixteen = stbi_is_16_bit(path.c_str()) != 0;
+  std::unique_ptr<void, StbFree> pixels(
+      sixteen ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 0))
+              : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 0)));
+  if (!pixels) throw Error(fmt::format("{}: cannot read image ({})", path, stb_reason()));
+  Image image(w, h, n);
+  const float scale = sixteen ? 1.0f / 65535.0f : 1.0f / 255.0f;
+  auto& data = image.data();
+  for (size_t i = 0; i < data.size(); ++i) {
+    const float v = static_cast<float>(sixteen ? static_cast<const uint16_t*>(pixels.get())[i]
+                                               : static_cast<const uint8_t*>(pixels.get())[i]) *
+                    scale;
+    data[i] = srgb && is_colour_channel(static_cast<int>(i % static_cast<size_t>(n)), n)
+                  ? srgb_decode(v)
+                  : v;
+  }
+  return image;
+}
+
+Image read_stb_hdr(const std::string& path) {
+  if (!stbi_is_hdr(path.c_str())) throw Error(fmt::format("{}: not a Radiance HDR file", path));
+  int w = 0, h = 0, n = 0;
+  std::unique_ptr<float, StbFree> pixels(stbi_loadf(path.c_str(), &w, &h, &n, 0));
+  if (!pixels) throw Error(fmt::format("{}: cannot read image ({})", path, stb_reason()));
+  Image image(w, h, n);
+  std::copy_n(pixels.get(), image.data().size(), image.data().begin());
+  return image;
+}
+
+Image read_exr(const std::string& path) {
+  Imf::InputFile file(path.c_str());
+  const Imf::Header& header = file.header();
+  const Imath::Box2i dw = header.dataWindow();
+  const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+  const Imf::ChannelList& list = header.channels();
+  auto has = [&](const char* name) { return list.findChannel(name) != nullptr; };
+  std::vector<std::string> names;
+  if (has("R") && has("G") && has("B")) {
+    names = {"R", "G", "B"};
+  } else if (has("Y")) {
+    names = {"Y"};
+  } else if (list.begin() != list.end()) {
+    names = {list.begin().name()};  // some single named channel (depth, mask): read as grey
+  } else {
+    throw Error(fmt::format("{}: EXR file has no channels", path));
+  }
+  if (has("A")) names.emplace_back("A");
+  const int channels = static_cast<int>(names.size());
+  Image image(w, h, channels);
+  Imf::FrameBuffer fb;
+  const size_t x_stride = sizeof(float) * static_cast<size_t>(channels);
+  for (int c = 0; c < channels; ++c)
+    fb.insert(names[static_cast<size_t>(c)],
+              Imf::Slice::Make(Imf::FLOAT, image.data().data() + c, dw, x_stride,
+                               x_stride * static_cast<size_t>(w)));
+  file.setFrameBuffer(fb);
+  file.readPixels(dw.min.y, dw.max.y);
+  return image;
+}
+
+}  // namespace
+
+Image read_image(const std::string& path, bool srgb) {
+  const ImageFormat format = image_format_from_path(path);
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw Error(fmt::format("{}: no such image file", path));
+  try {
+    switch (format) {
+      case ImageFormat::kPng:
+      case ImageFormat::kJpeg:
+        return read_stb_ldr(path, srgb);
+      case ImageFormat::kHdr:
+        return read_stb_hdr(path);
+      case ImageFormat::kExr:
+        return read_exr(path);
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("{}: cannot read image ({})", path, e.what()));
+  }
+  throw Error(fmt::format("{}: cannot read image", path));
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing
+
+namespace {
+
+void write_stb_ldr(const std::string& tmp, ImageFormat format, const Image& image,
+                   const ImageWriteOptions& options, bool* ok) {
+  const int n = image.channels();
+  std::vector<uint8_t> bytes(image.data().size());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const bool colour = is_colour_channel(static_cast<int>(i % static_cast<size_t>(n)), n);
+    float v = image.data()[i];
+    if (colour) v *= options.exposure;
+    if (!(v >= 0.0f)) v = 0.0f;  // also maps NaN to black
+    v = std::min(v, 1.0f);
+    if (colour && options.srgb) v = srgb_encode(v);
+    bytes[i] = static_cast<uint8_t>(v * 255.0f + 0.5f);
+  }
+  if (format == ImageFormat::kPng)
+    *ok = stbi_write_png(tmp.c_str(), image.width(), image.height(), n, bytes.data(),
+                         image.width() * n) != 0;
+  else
+    *ok = stbi_write_jpg(tmp.c_str(), image.width(), image.height(), n, bytes.data(),
+                         std::clamp(options.jpeg_quality, 1, 100)) != 0;
+}
+
+void write_stb_hdr(const std::string& tmp, const Image& image, bool* ok) {
+  // RGBE cannot store negative or non-finite values.
+  std::vector<float> data(image.data());
+  for (float& v : data) v = std::isfinite(v) ? std::max(v, 0.0f) : 0.0f;
+  *ok = stbi_write_hdr(tmp.c_str(), image.width(), image.height(), image.channels(), data.data()) !=
+        0;
+}
+
+void write_exr(const std::string& tmp, const Image& image, bool half) {
+  const int n = image.channels();
+  static const char* const kNames[4][4] = {
+      {"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+  const char* const* names = kNames[n - 1];
+  const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+  Imf::Header header(image.width(), image.height());
+  for (int c = 0; c < n; ++c) header.channels().insert(names[c], Imf::Channel(type));
+  std::vector<Imath::half> halves;
+  const char* base = reinterpret_cast<const char*>(image.data().data());
+  size_t element = sizeof(float);
+  if (half) {
+    halves.assign(image.data().begin(), image.data().end());
+    base = reinterpret_cast<const char*>(halves.data());
+    element = sizeof(Imath::half);
+  }
+  const size_t x_stride = element * static_cast<size_t>(n);
+  Imf::FrameBuffer fb;
+  for (int c = 0; c < n; ++c)
+    fb.insert(names[c], Imf::Slice(type, const_cast<char*>(base + element * static_cast<size_t>(c)),
+                                   x_stride, x_stride * static_cast<size_t>(image.width())));
+  Imf::OutputFile file(tmp.c_str(), header);
+  file.setFrameBuffer(fb);
+  file.writePixels(image.height());
+}
+
+std::string temporary_path_for(const fs::path& target) {
+  // Same folder (so the rename is atomic), hidden, and unique per process and call.
+  static std::atomic<uint64_t> counter{0};
+  const std::string name =
+      fmt::format(".{}.{}-{}.tmp", target.filename().string(), getpid(), counter++);
+  return (target.parent_path() / name).string();
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {
+  const ImageFormat format = image_format_from_path(path);
+  if (image.empty()) throw Error(fmt::format("{}: cannot write an empty image", path));
+  const fs::path target(path);
+  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw Error(
+        fmt::format("{}: cannot write image: folder '{}' does not exist", path, folder.string()));
+  const std::string tmp = temporary_path_for(target);
+  std::string failure;
+  try {
+    bool ok = true;
+    switch (format) {
+      case ImageFormat::kPng:
+      case ImageFormat::kJpeg:
+        write_stb_ldr(tmp, format, image, options, &ok);
+        break;
+      case ImageFormat::kHdr:
+        write_stb_hdr(tmp, image, &ok);
+        break;
+      case ImageFormat::kExr:
+        write_exr(tmp, image, options.exr_half);
+        break;
+    }
+    if (!ok) failure = "the encoder could not write the file";
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  if (failure.empty()) {
+    fs::rename(tmp, target, ec);
+    if (ec) failure = ec.message();
+  }
+  if (!failure.empty()) {
+    fs::remove(tmp, ec);
+    throw Error(fmt::format("{}: cannot write image ({})", path, failure));
+  }
+}
+
+}  // namespace illum
