@@ -26,7 +26,7 @@ struct Hit {
 struct SurfaceInteraction {
   vec3 p{0.0f};
   vec3 ng{0.0f, 0.0f, 1.0f};  // unit geometric normal, from the triangle's winding
-  vec3 ns{0.0f, 0.0f, 1.0f};  // unit shading normal (interpolated, normal-mapped)
+  vec3 ns{0.0f, 0.0f, 1.0f};  // unit shading normal (interpolated, normal-mapped), on ng's side
   Frame shading;              // tangent frame around ns (t follows the mesh tangent if any)
   vec2 uv0{0.0f}, uv1{0.0f};
   vec3 wo{0.0f};  // unit direction towards the ray origin
@@ -36,6 +36,9 @@ struct SurfaceInteraction {
   int light = -1;     // index into Scene::lights when the surface is an area light, else −1
 };
 
+// Builds the BVH in the constructor (throws illum::Error on a malformed scene or an Embree
+// error); keeps a reference to `scene`, which must outlive it. All queries are const and
+// safe to call from any number of threads at once.
 class RayTracer {
  public:
   explicit RayTracer(const Scene& scene);

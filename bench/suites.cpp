@@ -1,0 +1,76 @@
+#include "suites.h"
+
+#include <embree3/rtcore_config.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "illum/core/error.h"
+
+namespace illum::bench {
+
+std::span<const Suite> suites() {
+  // Explicit list (no static registration): one line per suite.
+  static const Suite kSuites[] = {
+      {"rays", "closest-hit throughput of illum's RayTracer vs a raw Embree loop", &run_rays},
+      {"path", "path-tracing samples/s and rays/s on cornell and sibenik", &run_path},
+  };
+  return kSuites;
+}
+
+bool parse_args(CLI::App& app, SuiteArgs args) {
+  std::vector<const char*> argv;
+  argv.push_back(app.get_name().c_str());
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  try {
+    app.parse(static_cast<int>(argv.size()), argv.data());
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    return false;
+  } catch (const CLI::ParseError& e) {
+    throw Error(fmt::format("{}: {}", app.get_name(), e.what()));
+  }
+  return true;
+}
+
+nlohmann::json machine_info() {
+  std::string cpu = "unknown";
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      const size_t colon = line.find(':');
+      if (colon != std::string::npos) cpu = line.substr(line.find_first_not_of(' ', colon + 1));
+      break;
+    }
+  }
+  return {{"cpu", cpu},
+          {"hardware_threads", std::thread::hardware_concurrency()},
+          {"embree", RTC_VERSION_STRING}};
+}
+
+void write_json(const std::string& path, const nlohmann::json& value) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw Error(fmt::format("{}: cannot write (missing folder?)", path));
+    out << value.dump(2) << '\n';
+    if (!out.flush()) throw Error(fmt::format("{}: write failed", path));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(fmt::format("{}: cannot write: {}", path, ec.message()));
+  }
+}
+
+double median(std::vector<double> values) {
+  const size_t n = values.size();
+  std::sort(values.begin(), values.end());
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace illum::bench

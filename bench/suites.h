@@ -1,0 +1,48 @@
+// The suites of `illum-bench`. A suite is a function that receives the arguments after its
+// name and returns the process exit code; bad input throws illum::Error (illum-bench prints
+// one line and exits 2). To add one: write bench/bench_NAME.cpp defining it, declare it
+// here, and add one line to the list in suites.cpp.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace illum::bench {
+
+using SuiteArgs = std::span<const std::string>;
+using SuiteFn = int (*)(SuiteArgs args);
+
+struct Suite {
+  const char* name;
+  const char* summary;  // one line for the usage text
+  SuiteFn run;
+};
+
+// The registered suites, in the order the usage text lists them.
+std::span<const Suite> suites();
+
+// --- suites -----------------------------------------------------------------------------
+int run_rays(SuiteArgs args);  // bench_rays.cpp: ray-query throughput, illum vs raw Embree
+int run_path(SuiteArgs args);  // bench_path.cpp: path-tracing samples/s and rays/s
+
+// --- helpers shared by suites ---------------------------------------------------------------
+
+// Parses `args` with `app` (named "illum-bench SUITE"). Returns false when --help was
+// printed (exit 0); throws illum::Error with CLI11's one-line message on bad input.
+bool parse_args(CLI::App& app, SuiteArgs args);
+
+// What machine produced the numbers: CPU model, hardware threads, Embree version.
+nlohmann::json machine_info();
+
+// Writes `value` to `path` through a temporary file renamed on success; throws
+// illum::Error naming the path on failure.
+void write_json(const std::string& path, const nlohmann::json& value);
+
+// Median of a non-empty list (mean of the middle two for an even count).
+double median(std::vector<double> values);
+
+}  // namespace illum::bench
