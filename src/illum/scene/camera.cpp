@@ -16,6 +16,16 @@ Ray Camera::generate_ray(float px, float py, int width, int height) const {
   return ray;
 }
 
+Camera Camera::framing(const Bounds3& bounds) {
+  Camera camera;
+  if (bounds.empty()) return camera;
+  const float radius = std::max(0.5f * bounds.diagonal(), 1e-3f);
+  camera.look_at = bounds.center();
+  camera.position =
+      camera.look_at + vec3(0.0f, 0.25f * radius, radius / std::sin(0.5f * camera.fov_y));
+  return camera;
+}
+
 mat4 Camera::view_matrix() const { return glm::lookAtRH(position, look_at, up); }
 
 mat4 Camera::projection_matrix(float aspect, float z_near, float z_far) const {

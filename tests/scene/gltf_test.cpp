@@ -1,0 +1,335 @@
+// glTF 2.0 round trip: the test writes a small .gltf (embedded base64 buffer) and the same
+// asset as .glb, with node transforms, several component types, punctual lights, a camera
+// and the material extensions illum reads, then checks what the loader made of it.
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "illum/core/error.h"
+#include "illum/core/image.h"
+#include "illum/scene/load.h"
+#include "test_util.h"
+
+namespace illum {
+namespace {
+
+using test::contains;
+using test::TempDir;
+
+std::string base64(const std::vector<uint8_t>& data) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    const uint32_t b0 = data[i], b1 = i + 1 < data.size() ? data[i + 1] : 0,
+                   b2 = i + 2 < data.size() ? data[i + 2] : 0;
+    const uint32_t n = (b0 << 16) | (b1 << 8) | b2;
+    out += kAlphabet[(n >> 18) & 63];
+    out += kAlphabet[(n >> 12) & 63];
+    out += i + 1 < data.size() ? kAlphabet[(n >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? kAlphabet[n & 63] : '=';
+  }
+  return out;
+}
+
+template <typename T>
+void put(std::vector<uint8_t>& buf, std::initializer_list<T> values) {
+  for (T v : values) {
+    const size_t at = buf.size();
+    buf.resize(at + sizeof(T));
+    std::memcpy(buf.data() + at, &v, sizeof(T));
+  }
+}
+
+struct Asset {
+  nlohmann::json json;
+  std::vector<uint8_t> bin;
+};
+
+Asset make_asset() {
+  Asset a;
+  auto& b = a.bin;
+  put<float>(b, {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0});  // 0: quad positions
+  put<float>(b, {0, 0, 1, 0, 1, 1, 0, 1});              // 48: quad uvs
+  put<uint8_t>(b, {0, 1, 2, 0, 2, 3, 0, 0});            // 80: quad indices (+2 pad)
+  put<float>(b, {0, 0, 0, 1, 0, 0, 0, 1, 0});           // 88: triangle positions
+  put<uint16_t>(b, {0, 1, 2, 0});                       // 124: ushort indices (+pad)
+  put<uint16_t>(b, {0, 0, 65535, 0, 0, 65535});         // 132: normalized ushort uvs
+  put<uint32_t>(b, {0, 1, 2});                          // 144: uint indices
+  using nlohmann::json;
+  json& j = a.json;
+  j["asset"] = {{"version", "2.0"}};
+  j["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                         "KHR_materials_ior", "KHR_materials_transmission"};
+  j["buffers"] = json::array({{{"byteLength", b.size()}}});
+  j["bufferViews"] = json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", b.size()}}});
+  auto acc = [](int offset, int type, const char* kind, int count, bool normalized = false) {
+    json x = {{"bufferView", 0},
+              {"byteOffset", offset},
+              {"componentType", type},
+              {"type", kind},
+              {"count", count}};
+    if (normalized) x["normalized"] = true;
+    return x;
+  };
+  j["accessors"] =
+      json::array({acc(0, 5126, "VEC3", 4), acc(48, 5126, "VEC2", 4), acc(80, 5121, "SCALAR", 6),
+                   acc(88, 5126, "VEC3", 3), acc(124, 5123, "SCALAR", 3),
+                   acc(132, 5123, "VEC2", 3, true), acc(144, 5125, "SCALAR", 3)});
+  j["accessors"][0]["min"] = {0, 0, 0};
+  j["accessors"][0]["max"] = {1, 1, 0};
+  j["accessors"][3]["min"] = {0, 0, 0};
+  j["accessors"][3]["max"] = {1, 1, 0};
+  j["meshes"] = json::array(
+      {{{"name", "quad"},
+        {"primitives",
+         {{{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 1}}},
+           {"indices", 2},
+           {"material", 0}}}}},
+       {{"name", "pair"},
+        {"primitives",
+         {{{"attributes", {{"POSITION", 3}, {"TEXCOORD_0", 5}}}, {"indices", 4}, {"material", 1}},
+          {{"attributes", {{"POSITION", 3}}}, {"indices", 6}, {"material", 2}},
+          {{"attributes", {{"POSITION", 3}}}, {"mode", 0}}}}}});
+  const float h = std::sqrt(0.5f);
+  j["nodes"] = json::array(
+      {{{"name", "parent"}, {"translation", {1, 0, 0}}, {"scale", {2, 2, 2}}, {"children", {1}}},
+       {{"name", "quad_node"}, {"mesh", 0}, {"rotation", {0, h, 0, h}}},
+       {{"name", "cam"}, {"camera", 0}, {"translation", {0, 1, 5}}},
+       {{"name", "spot"},
+        {"translation", {0, 3, 0}},
+        {"rotation", {-h, 0, 0, h}},
+        {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
+       {{"name", "bulb"},
+        {"translation", {2, 2, 2}},
+        {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}},
+       {{"name", "pair_node"},
+        {"mesh", 1},
+        {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -3, 1}}}});
+  j["scenes"] = json::array({{{"nodes", {0, 2, 3, 4, 5}}}});
+  j["scene"] = 0;
+  j["cameras"] =
+      json::array({{{"type", "perspective"},
+                    {"perspective", {{"yfov", 0.8}, {"znear", 0.1}, {"aspectRatio", 1.5}}}}});
+  j["extensions"]["KHR_lights_punctual"]["lights"] =
+      json::array({{{"type", "spot"},
+                    {"intensity", 10},
+                    {"color", {1, 1, 1}},
+                    {"range", 7},
+                    {"spot", {{"innerConeAngle", 0.3}, {"outerConeAngle", 0.5}}}},
+                   {{"type", "point"}, {"intensity", 3}, {"color", {1, 0, 0}}}});
+  auto pbr = [](std::vector<double> base, double metallic, double roughness) {
+    return json{
+        {"baseColorFactor", base}, {"metallicFactor", metallic}, {"roughnessFactor", roughness}};
+  };
+  j["materials"] = json::array(
+      {{{"name", "emitter"},
+        {"pbrMetallicRoughness", pbr({0.5, 0.5, 0.5, 1}, 0, 1)},
+        {"emissiveFactor", {1, 0.5, 0.25}},
+        {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+       {{"name", "glass"},
+        {"pbrMetallicRoughness", pbr({0.9, 1, 0.9, 1}, 0, 0)},
+        {"extensions",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+          {"KHR_materials_ior", {{"ior", 1.33}}}}}},
+       {{"name", "gold"}, {"pbrMetallicRoughness", pbr({1.0, 0.766, 0.336, 1}, 1, 0.2)}},
+       {{"name", "plastic"}, {"pbrMetallicRoughness", pbr({0.2, 0.3, 0.8, 1}, 0, 0.3)}}});
+  return a;
+}
+
+std::string write_gltf(const TempDir& dir, Asset a) {
+  a.json["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(a.bin);
+  return dir.write("asset.gltf", a.json.dump(2));
+}
+
+std::string write_glb(const TempDir& dir, const Asset& a) {
+  std::string json = a.json.dump();
+  while (json.size() % 4) json += ' ';
+  std::vector<uint8_t> bin = a.bin;
+  while (bin.size() % 4) bin.push_back(0);
+  std::vector<uint8_t> out;
+  const uint32_t total =
+      12 + 8 + static_cast<uint32_t>(json.size()) + 8 + static_cast<uint32_t>(bin.size());
+  put<uint32_t>(out, {0x46546C67u, 2u, total});
+  put<uint32_t>(out, {static_cast<uint32_t>(json.size()), 0x4E4F534Au});
+  out.insert(out.end(), json.begin(), json.end());
+  put<uint32_t>(out, {static_cast<uint32_t>(bin.size()), 0x004E4942u});
+  out.insert(out.end(), bin.begin(), bin.end());
+  return dir.write("asset.glb", std::string(out.begin(), out.end()));
+}
+
+const Material& material(const Scene& s, const std::string& name) {
+  for (const Material& m : s.materials)
+    if (m.name == name) return m;
+  ADD_FAILURE() << "no material " << name;
+  return s.materials.at(0);
+}
+
+// Normal-incidence reflectance of a conductor with complex index η + ik.
+float conductor_f0(float eta, float k) {
+  return ((eta - 1) * (eta - 1) + k * k) / ((eta + 1) * (eta + 1) + k * k);
+}
+
+void check_asset(const Scene& scene) {
+  EXPECT_EQ(scene.triangle_count(), 4u);  // quad 2 + two single triangles
+  ASSERT_EQ(scene.instances.size(), 3u);
+  // The points primitive is skipped with one warning.
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_TRUE(contains(scene.warnings[0], "mode 0")) << scene.warnings[0];
+
+  // Node hierarchy: world = T(1,0,0) · S(2) · Ry(90°) for the quad.
+  const Instance& quad = scene.instances[0];
+  EXPECT_EQ(quad.name, "quad_node");
+  const vec3 p = vec3(quad.transform * vec4(1, 0, 0, 1));
+  EXPECT_NEAR(p.x, 1.0f, 1e-5f);
+  EXPECT_NEAR(p.y, 0.0f, 1e-5f);
+  EXPECT_NEAR(p.z, -2.0f, 1e-5f);
+  const Instance& pair = scene.instances[1];
+  EXPECT_NEAR(pair.transform[3].z, -3.0f, 1e-6f);
+  const Bounds3 b = scene.bounds();
+  EXPECT_NEAR(b.max.y, 2.0f, 1e-5f);
+  EXPECT_NEAR(b.min.z, -3.0f, 1e-5f);
+
+  // Quad: object-space normal +z from the shared vertices, uvs, tangents along +u = +x.
+  const Mesh& qm = scene.meshes[quad.mesh];
+  ASSERT_EQ(qm.normals.size(), 4u);
+  for (const vec3& n : qm.normals) EXPECT_NEAR(n.z, 1.0f, 1e-5f);
+  ASSERT_EQ(qm.tangents.size(), 4u);
+  EXPECT_NEAR(qm.tangents[0].x, 1.0f, 1e-5f);
+  // Normalized unsigned-short uvs of the first 'pair' primitive.
+  const Mesh& tri = scene.meshes[pair.mesh];
+  ASSERT_EQ(tri.uv0.size(), 3u);
+  EXPECT_FLOAT_EQ(tri.uv0[1].x, 1.0f);
+  EXPECT_FLOAT_EQ(tri.uv0[2].y, 1.0f);
+
+  const Material& emitter = material(scene, "emitter");
+  EXPECT_EQ(emitter.type, MaterialType::kLambert);
+  EXPECT_EQ(emitter.emission, Color(4.0f, 2.0f, 1.0f));
+  const Material& glass = material(scene, "glass");
+  EXPECT_EQ(glass.type, MaterialType::kDielectric);
+  EXPECT_NEAR(glass.ior, 1.33f, 1e-6f);
+  EXPECT_NEAR(glass.transmittance.r, 0.9f, 1e-6f);
+  const Material& gold = material(scene, "gold");
+  EXPECT_EQ(gold.type, MaterialType::kConductor);
+  EXPECT_NEAR(conductor_f0(gold.eta.g, gold.k.g), 0.766f, 1e-3f);
+  EXPECT_NEAR(conductor_f0(gold.eta.b, gold.k.b), 0.336f, 1e-3f);
+  EXPECT_NEAR(conductor_f0(gold.eta.r, gold.k.r), 0.99f, 1e-3f);  // clamped below 1
+  const Material& plastic = material(scene, "plastic");
+  EXPECT_EQ(plastic.type, MaterialType::kBlinn);
+  EXPECT_NEAR(plastic.exponent, 2.0f / (0.09f * 0.09f) - 2.0f, 0.1f);
+
+  int spots = 0, points = 0, areas = 0;
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kSpot) {
+      ++spots;
+      EXPECT_EQ(l.intensity, Color(10.0f));
+      EXPECT_NEAR(l.cone_half_angle, 0.5f, 1e-6f);
+      EXPECT_NEAR(l.range, 7.0f, 1e-6f);
+      EXPECT_NEAR(l.position.y, 3.0f, 1e-6f);
+      EXPECT_NEAR(l.direction.y, -1.0f, 1e-5f);
+    } else if (l.type == LightType::kPoint) {
+      ++points;
+      EXPECT_EQ(l.intensity, Color(3.0f, 0.0f, 0.0f));
+      EXPECT_EQ(l.position, vec3(2.0f));
+    } else if (l.type == LightType::kArea) {
+      ++areas;
+      EXPECT_EQ(l.instance, 0);
+    }
+  }
+  EXPECT_EQ(spots, 1);
+  EXPECT_EQ(points, 1);
+  EXPECT_EQ(areas, 1);
+
+  ASSERT_TRUE(scene.camera.has_value());
+  EXPECT_EQ(scene.camera->position, vec3(0.0f, 1.0f, 5.0f));
+  EXPECT_NEAR(scene.camera->look_at.z, 4.0f, 1e-6f);
+  EXPECT_NEAR(scene.camera->fov_y, 0.8f, 1e-6f);
+}
+
+TEST(Gltf, RoundTripEmbedded) {
+  TempDir dir;
+  const Scene scene = load_scene(write_gltf(dir, make_asset()));
+  EXPECT_EQ(scene.name, "asset");
+  check_asset(scene);
+}
+
+TEST(Gltf, RoundTripBinary) {
+  TempDir dir;
+  const Scene scene = load_scene(write_glb(dir, make_asset()));
+  check_asset(scene);
+}
+
+TEST(Gltf, MissingBufferFile) {
+  TempDir dir;
+  Asset a = make_asset();
+  a.json["buffers"][0]["uri"] = "geometry.bin";
+  const std::string path = dir.write("asset.gltf", a.json.dump());
+  const std::string message = test::error_of([&] { load_scene(path); });
+  EXPECT_TRUE(contains(message, "missing buffer") && contains(message, "geometry.bin") &&
+              contains(message, path))
+      << message;
+}
+
+TEST(Gltf, AccessorPastBufferEnd) {
+  TempDir dir;
+  Asset a = make_asset();
+  a.json["accessors"][0]["count"] = 400;
+  const std::string path = write_gltf(dir, a);
+  const std::string message = test::error_of([&] { load_scene(path); });
+  EXPECT_TRUE(contains(message, path)) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(Gltf, TexturesDecodedAndMissingOnesWarned) {
+  TempDir dir;
+  Image img(2, 1, 3);
+  img.set_rgb(0, 0, Color(1.0f, 0.0f, 0.0f));
+  img.set_rgb(1, 0, Color(0.5f));  // written as sRGB 8-bit, read back ≈ 0.5 linear
+  write_image(dir.file("base.png"), img);
+  Asset a = make_asset();
+  a.json["images"] = {{{"uri", "base.png"}}, {{"uri", "missing.png"}}};
+  a.json["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  a.json["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  a.json["materials"][2]["normalTexture"] = {{"index", 1}, {"scale", 0.5}};
+  const Scene scene = load_scene(write_gltf(dir, a));
+  const Material& plastic = material(scene, "plastic");
+  ASSERT_NE(plastic.albedo_texture, kNoTexture);
+  const Texture& tex = scene.textures.at(plastic.albedo_texture);
+  EXPECT_TRUE(tex.srgb);
+  EXPECT_EQ(tex.image.width(), 2);
+  EXPECT_NEAR(tex.image.rgb(0, 0).r, 1.0f, 1e-6f);
+  EXPECT_NEAR(tex.image.rgb(1, 0).g, 0.5f, 0.01f);
+  const Material& gold = material(scene, "gold");
+  EXPECT_EQ(gold.normal_texture, kNoTexture);
+  EXPECT_FLOAT_EQ(gold.normal_scale, 0.5f);
+  bool warned = false;
+  for (const std::string& w : scene.warnings) warned = warned || contains(w, "missing.png");
+  EXPECT_TRUE(warned);
+  // Without textures requested nothing is decoded.
+  LoadOptions options;
+  options.load_textures = false;
+  const Scene bare = load_scene(dir.file("asset.gltf"), options);
+  EXPECT_TRUE(bare.textures.empty());
+}
+
+TEST(Gltf, UsedFromSceneFile) {
+  TempDir dir;
+  write_gltf(dir, make_asset());
+  const std::string path = dir.write("s.illum.json", R"({
+    "meshes": [{"file": "asset.gltf", "scale": 0.5, "hide": ["pair_node"]}]})");
+  const Scene scene = load_scene(path);
+  EXPECT_EQ(scene.triangle_count(), 2u);
+  // The quad's (1,0,0) corner: 0.5 · (1, 0, −2).
+  const Bounds3 b = scene.bounds();
+  EXPECT_NEAR(b.min.z, -1.0f, 1e-5f);
+  EXPECT_NEAR(b.max.y, 1.0f, 1e-5f);
+  // The camera from the glTF is used (scaled), the lights come along.
+  ASSERT_TRUE(scene.camera.has_value());
+  EXPECT_NEAR(scene.camera->position.z, 2.5f, 1e-5f);
+  EXPECT_EQ(scene.lights.size(), 3u);
+}
+
+}  // namespace
+}  // namespace illum
