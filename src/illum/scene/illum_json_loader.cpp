@@ -1,6 +1,7 @@
 // illum's own scene files (*.illum.json): geometry from OBJ/glTF files plus the lights,
 // camera, environment and settings those formats lack. Read through Params, so every
 // unknown key is an error naming the file and the key. Format: docs/scene-format.md.
+#include <cmath>
 #include <algorithm>
 #include <set>
 
@@ -262,6 +263,17 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
       if (!file_exists(env.path))
         throw Error(fmt::format("{}: cannot open environment map '{}'", e.where("file"), env.path));
       env.radiance = read_image(env.path, /*srgb=*/false);
+      // Importance sampling builds a distribution from these values: a NaN, infinite or
+      // negative texel is bad input here, not a crash later.
+      for (size_t i = 0; i < env.radiance.data().size(); ++i) {
+        const float v = env.radiance.data()[i];
+        if (!std::isfinite(v) || v < 0.0f) {
+          const size_t texel = i / static_cast<size_t>(env.radiance.channels());
+          throw Error(fmt::format("{}: environment map '{}' has a non-finite or negative value at texel ({}, {})",
+                                  e.where("file"), env.path, texel % env.radiance.width(),
+                                  texel / env.radiance.width()));
+        }
+      }
     } else {
       env.constant = non_negative_color(e, "constant", Color(0.0f));
     }

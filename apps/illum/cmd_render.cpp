@@ -1,0 +1,144 @@
+// `illum render SCENE --integrator NAME -o out.{png,jpg,exr,hdr}`: offline rendering.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "illum/core/log.h"
+#include "illum/core/parallel.h"
+#include "illum/core/tonemap.h"
+#include "illum/render/integrator.h"
+#include "illum/scene/load.h"
+
+namespace illum::cli {
+
+namespace {
+
+struct RenderArgs {
+  std::string scene;
+  std::string integrator = "path";
+  std::string output;
+  int width = 0, height = 0, spp = 0;  // 0: from the scene's settings
+  uint64_t seed = 0;
+  int threads = 0;
+  double seconds = 0.0;
+  std::vector<std::string> params;  // key=value
+  std::string bounces;              // sugar for params bounces / max_bounces
+  std::string shadows;              // sugar for param shadows
+  float exposure = 1.0f;
+  std::string tonemap = "clamp";
+  bool no_preview = false;
+};
+
+// "key=value" → JSON value: true/false, integers, floats, else the string itself.
+nlohmann::json parse_value(const std::string& text) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  try {
+    size_t used = 0;
+    const long long i = std::stoll(text, &used);
+    if (used == text.size()) return i;
+    const double d = std::stod(text, &used);
+    if (used == text.size()) return d;
+  } catch (const std::exception&) {
+  }
+  return text;
+}
+
+Params integrator_params(const RenderArgs& args) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& kv : args.params) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error(fmt::format("--param '{}' must look like key=value", kv));
+    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1));
+  }
+  if (!args.bounces.empty()) {
+    const auto v = parse_value(args.bounces);
+    if (v.is_number_integer())
+      j["max_bounces"] = v;
+    else
+      j["bounces"] = args.bounces;
+  }
+  if (!args.shadows.empty()) j["shadows"] = args.shadows == "on";
+  return Params(j, "--param");
+}
+
+// "out.exr" → "out.png": the tone-mapped preview written beside an HDR output.
+std::string preview_path(const std::string& output) {
+  return std::filesystem::path(output).replace_extension(".png").string();
+}
+
+void run_render(const RenderArgs& args) {
+  check_output_path(args.output);
+  const ImageFormat format = image_format_from_path(args.output);
+  const bool hdr_output = format == ImageFormat::kExr || format == ImageFormat::kHdr;
+  const ToneMapper mapper = tone_mapper_from_string(args.tonemap);
+  if (!(args.exposure > 0.0f) || !std::isfinite(args.exposure))
+    throw Error(fmt::format("--exposure {} must be a positive number", args.exposure));
+
+  const Scene scene = load_scene(args.scene);
+  RenderOptions options;
+  options.width = args.width > 0 ? args.width : scene.settings.width;
+  options.height = args.height > 0 ? args.height : scene.settings.height;
+  options.spp = args.spp > 0 ? args.spp : scene.settings.spp;
+  options.seed = args.seed;
+  options.threads = args.threads;
+  options.time_budget_s = args.seconds;
+
+  Params params = integrator_params(args);
+  auto integrator = Integrator::create(args.integrator, params);
+  params.check_all_used();  // a --param the integrator did not read is a typo
+
+  ThreadLimit limit(args.threads);
+  const auto t0 = std::chrono::steady_clock::now();
+  const RayTracer tracer(scene);
+  const auto t1 = std::chrono::steady_clock::now();
+  const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  const Image image = integrator->render(tracer, camera, options);
+  const auto t2 = std::chrono::steady_clock::now();
+
+  if (hdr_output) {
+    write_image(args.output, image);
+    if (!args.no_preview) {
+      ImageWriteOptions png;
+      write_image(preview_path(args.output), tone_mapped(image, mapper, args.exposure), png);
+    }
+  } else {
+    write_image(args.output, tone_mapped(image, mapper, args.exposure));
+  }
+  const double build_s = std::chrono::duration<double>(t1 - t0).count();
+  const double render_s = std::chrono::duration<double>(t2 - t1).count();
+  std::fprintf(stderr, "illum: %s %dx%d, %s: BVH %.2fs, render %.2fs -> %s%s\n",
+               args.integrator.c_str(), options.width, options.height, scene.name.c_str(), build_s,
+               render_s, args.output.c_str(),
+               hdr_output && !args.no_preview ? (" + " + preview_path(args.output)).c_str() : "");
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+  auto args = std::make_shared<RenderArgs>();
+  auto* cmd = app.add_subcommand("render", "Render a scene offline with a CPU integrator");
+  cmd->add_option("scene", args->scene, "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")->required();
+  cmd->add_option("-i,--integrator", args->integrator, "integrator")->capture_default_str();
+  cmd->add_option("-o,--output", args->output, "output image: .png .jpg (tone-mapped) or .exr .hdr (linear)")->required();
+  cmd->add_option("--width", args->width, "image width (default: scene settings)")->check(CLI::Range(1, kMaxImageSide));
+  cmd->add_option("--height", args->height, "image height (default: scene settings)")->check(CLI::Range(1, kMaxImageSide));
+  cmd->add_option("--spp", args->spp, "samples per pixel (default: scene settings)")->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same image)");
+  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  cmd->add_option("--time", args->seconds, "time budget in seconds for progressive integrators (0: none)")->check(CLI::Range(0.0, 1e7));
+  cmd->add_option("-p,--param", args->params, "integrator parameter key=value (repeatable)");
+  cmd->add_option("--bounces", args->bounces, "path: max bounces (a number) or a mode: all, direct, indirect1");
+  cmd->add_option("--shadows", args->shadows, "whitted: shadow rays on or off")->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")->capture_default_str();
+  cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces")->capture_default_str();
+  cmd->add_flag("--no-preview", args->no_preview, "with .exr/.hdr output, do not also write a tone-mapped .png");
+  cmd->callback([args] { run_render(*args); });
+}
+
+}  // namespace illum::cli

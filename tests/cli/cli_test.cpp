@@ -1,0 +1,183 @@
+// Runs the real `illum` binary on good and bad input. Every bad input must give exit code
+// 2, exactly one line on stderr that names the problem, and no output file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+  int err_lines() const {
+    int n = 0;
+    for (char c : err) n += c == '\n';
+    return n;
+  }
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("illum-cli-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(ILLUM_BINARY_DIR) + "/bin/illum " + args + " >" +
+                            out.string() + " 2>" + err.string() + " </dev/null";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+  // One clear line, exit code 2, and the line mentions `needle`.
+  void expect_bad_input(const Result& r, const std::string& needle) {
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.err_lines(), 1) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
+  }
+  fs::path dir_;
+};
+
+const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+TEST_F(CliTest, RendersCornellAo) {
+  const fs::path out = dir_ / "ao.png";
+  const auto r = run("render cornell --integrator ao --width 32 --height 32 --spp 4 -o " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out));
+  // Nothing but the image is left in the folder (no temporary files).
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir_)) files += e.path().extension() == ".png";
+  EXPECT_EQ(files, 1);
+}
+
+TEST_F(CliTest, InfoPrintsCounts) {
+  const auto r = run("info cornell --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"triangles\": 32"), std::string::npos) << r.out;
+}
+
+TEST_F(CliTest, MissingSceneFile) {
+  const auto missing = (dir_ / "nope.obj").string();
+  expect_bad_input(run("info " + missing), "nope.obj");
+}
+
+TEST_F(CliTest, MalformedJsonScene) {
+  const auto p = write("bad.illum.json", "{ \"meshes\": [ { \"file\": \"x.obj\" } ");
+  expect_bad_input(run("info " + p.string()), "bad.illum.json");
+}
+
+TEST_F(CliTest, UnknownJsonKey) {
+  write("tri.obj", kTriangleObj);
+  const auto p = write("typo.illum.json", R"({"meshes": [{"file": "tri.obj"}], "lihgts": []})");
+  expect_bad_input(run("info " + p.string()), "lihgts");
+}
+
+TEST_F(CliTest, MalformedGltf) {
+  const auto truncated = write("truncated.gltf", R"({"asset": {"version": "2.0"}, "meshes": [ )");
+  expect_bad_input(run("info " + truncated.string()), "truncated.gltf");
+  // Well-formed JSON, but the position attribute names an accessor that does not exist.
+  const auto dangling = write("dangling.gltf", R"({"asset": {"version": "2.0"}, "scene": 0,
+    "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 5}}]}]})");
+  expect_bad_input(run("info " + dangling.string()), "dangling.gltf");
+}
+
+TEST_F(CliTest, SponzaWithoutBufferFailsCleanly) {
+  const std::string sponza = std::string(ILLUM_SHARED_SCENES) + "/sponza/glTF/Sponza.gltf";
+  if (!fs::exists(sponza)) GTEST_SKIP() << "shared scenes not present at " << sponza;
+  expect_bad_input(run("info " + sponza), "missing buffer");
+}
+
+TEST_F(CliTest, UnknownCliOption) {
+  expect_bad_input(run("render cornell --integrator ao --frobnicate 3 -o " + (dir_ / "x.png").string()),
+                   "frobnicate");
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(CliTest, UnknownIntegrator) {
+  const fs::path out = dir_ / "x.png";
+  expect_bad_input(run("render cornell --integrator magic -o " + out.string()), "magic");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CliTest, UnknownIntegratorParam) {
+  const fs::path out = dir_ / "x.png";
+  expect_bad_input(run("render cornell --integrator ao --param colour=3 -o " + out.string()), "colour");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CliTest, NanVertex) {
+  const auto p = write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_bad_input(run("info " + p.string()), "nan.obj");
+}
+
+TEST_F(CliTest, InfVertex) {
+  const auto p = write("inf.obj", "v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_bad_input(run("info " + p.string()), "inf.obj");
+}
+
+TEST_F(CliTest, DegenerateTrianglesDroppedWithOneWarning) {
+  // Two good triangles, three degenerate ones (repeated index, collinear, coincident).
+  const auto p = write("degen.obj",
+                       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 0 0\nv 0 0 0\n"
+                       "f 1 2 3\nf 2 4 3\nf 1 1 2\nf 1 2 5\nf 1 6 2\n");
+  const auto r = run("info --json " + p.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"triangles\": 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 degenerate"), std::string::npos) << r.out;
+}
+
+TEST_F(CliTest, OutputInMissingFolder) {
+  const fs::path out = dir_ / "no" / "such" / "folder" / "x.png";
+  expect_bad_input(run("render cornell --integrator ao --spp 1 -o " + out.string()), "does not exist");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CliTest, UnknownOutputExtension) {
+  const fs::path out = dir_ / "x.bmpx";
+  expect_bad_input(run("render cornell --integrator ao -o " + out.string()), "x.bmpx");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CliTest, ZeroSamplesAndAbsurdResolution) {
+  const fs::path out = dir_ / "x.png";
+  expect_bad_input(run("render cornell --integrator ao --spp 0 -o " + out.string()), "spp");
+  expect_bad_input(run("render cornell --integrator ao --width 100000 -o " + out.string()), "width");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CliTest, NoSubcommand) {
+  const auto r = run("");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+}  // namespace
