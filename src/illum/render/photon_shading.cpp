@@ -1,0 +1,30 @@
+#include "illum/render/photon_shading.h"
+
+#include <cmath>
+
+namespace illum {
+
+Color photon_direct_lighting(const RayTracer& tracer, const LightSampler& lights,
+                             const SurfaceInteraction& si, const Bsdf& bsdf, const vec3& wo,
+                             float u_light, const vec2& u, bool visibility) {
+  float pmf = 0.0f;
+  const int light = lights.choose(u_light, &pmf);
+  if (light < 0 || !(pmf > 0.0f)) return Color(0.0f);
+  const std::optional<LightSample> ls = lights.sample_li(light, si.p, u);
+  // A zero distance happens when p lies on the sampled emitter itself.
+  if (!ls || !(ls->pdf > 0.0f) || is_black(ls->li) || !(ls->distance > 0.0f)) return Color(0.0f);
+  const Color f = bsdf.eval(wo, ls->wi);
+  if (is_black(f)) return Color(0.0f);
+  if (visibility) {
+    Ray shadow{offset_ray_origin(si.p, si.ng, ls->wi), ls->wi};
+    // Stop just short of the light point, measured from the offset origin: the emitter's
+    // own geometry must not occlude it (the offset along the normal moves the origin
+    // toward a light the surface faces, so `distance` itself would overshoot).
+    if (std::isfinite(ls->distance)) shadow.tmax = glm::length(ls->p - shadow.origin) * (1.0f - 1e-3f);
+    if (tracer.occluded(shadow)) return Color(0.0f);
+  }
+  const Color c = f * ls->li * (std::abs(glm::dot(ls->wi, si.ns)) / (ls->pdf * pmf));
+  return is_finite(c) ? c : Color(0.0f);
+}
+
+}  // namespace illum

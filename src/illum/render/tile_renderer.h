@@ -1,0 +1,124 @@
+// The pixel loop every offline integrator shares: tiles rendered in parallel, one scrambled
+// Sobol' sequence per pixel seeded from hash(seed, x, y), samples added in passes so a time
+// budget can stop the render between passes.
+//
+// Determinism: a pixel's estimate depends only on (seed, x, y, sample count) — never on
+// which thread ran it — so the same seed and thread count (indeed any thread count) give a
+// bit-identical image when the render stops on `spp`. With a time budget the number of
+// passes depends on the machine's speed; the image is then only as deterministic as that.
+//
+// Budget: passes of 1, 1, 2, 4, 8, 16, 16, ... samples per pixel run until `options.spp`
+// samples are done or, when `options.time_budget_s` > 0, until that much time has passed
+// at the end of a pass — whichever comes first (pass a large spp for a time-only budget).
+// Ctrl-C (core/interrupt.h) stops the render within a tile and throws Interrupted.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "illum/core/image.h"
+#include "illum/core/interrupt.h"
+#include "illum/core/log.h"
+#include "illum/core/parallel.h"
+#include "illum/core/progress.h"
+#include "illum/core/rng.h"
+#include "illum/core/sampler.h"
+#include "illum/render/integrator.h"
+#include "illum/render/render_setup.h"
+#include "illum/scene/camera.h"
+
+namespace illum {
+
+struct RenderStats {
+  int spp = 0;  // samples per pixel actually taken
+  int passes = 0;
+  int64_t samples = 0;   // camera samples (pixels × spp)
+  int64_t dropped = 0;   // non-finite samples replaced by black
+  double seconds = 0.0;  // wall time of the pixel loop
+};
+
+inline constexpr int kRenderTileSize = 16;
+inline constexpr int kMaxPassSpp = 16;
+
+// `shade(const Ray& camera_ray, SobolSampler& sampler) -> Color` estimates the radiance of
+// one camera sample; it receives the sampler after the two film dimensions were taken.
+// Returns the linear RGB mean over each pixel's samples (box filter).
+template <typename Shade>
+Image render_tiles(const Camera& camera, const RenderOptions& options, const std::string& label,
+                   Shade&& shade, RenderStats* stats_out = nullptr) {
+  validate_render_options(options);
+  ThreadLimit thread_limit(options.threads);
+  const int width = options.width, height = options.height;
+  std::vector<Color> sum(static_cast<size_t>(width) * height, Color(0.0f));
+  const int tiles = ((width + kRenderTileSize - 1) / kRenderTileSize) *
+                    ((height + kRenderTileSize - 1) / kRenderTileSize);
+  Progress progress(label, static_cast<int64_t>(tiles) * options.spp,
+                    options.progress && Progress::stderr_is_terminal());
+  std::atomic<int64_t> dropped{0};
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+
+  RenderStats stats;
+  int pass_spp = 1;
+  while (stats.spp < options.spp) {
+    const int first = stats.spp;
+    const int count = std::min(pass_spp, options.spp - first);
+    parallel_for_tiles(width, height, kRenderTileSize, [&](const Tile& tile) {
+      if (interrupt_requested()) return;  // Ctrl-C: finish quickly, throw below
+      int64_t bad = 0;
+      for (int y = tile.y0; y < tile.y1; ++y) {
+        for (int x = tile.x0; x < tile.x1; ++x) {
+          SobolSampler sampler(
+              hash_mix(options.seed, static_cast<uint64_t>(x), static_cast<uint64_t>(y)));
+          Color acc(0.0f);
+          for (int s = first; s < first + count; ++s) {
+            sampler.start_sample(static_cast<uint32_t>(s));
+            const vec2 jitter = sampler.next_2d();
+            const Ray ray = camera.generate_ray(static_cast<float>(x) + jitter.x,
+                                                static_cast<float>(y) + jitter.y, width, height);
+            const Color c = shade(ray, sampler);
+            if (is_finite(c)) {
+              acc += c;
+            } else {
+              ++bad;
+            }
+          }
+          sum[static_cast<size_t>(y) * width + x] += acc;
+        }
+      }
+      if (bad) dropped += bad;
+      progress.advance(count);
+    });
+    if (interrupt_requested()) {
+      progress.finish();
+      throw Interrupted{};
+    }
+    stats.spp += count;
+    ++stats.passes;
+    pass_spp = std::min(2 * pass_spp, kMaxPassSpp);
+    if (stats.passes == 1) pass_spp = 1;  // second pass also 1 spp: a quick early estimate
+    if (options.time_budget_s > 0.0 && elapsed() >= options.time_budget_s) break;
+  }
+  progress.finish();
+  stats.seconds = elapsed();
+  stats.samples = static_cast<int64_t>(stats.spp) * width * height;
+  stats.dropped = dropped.load();
+  if (stats.dropped > 0)
+    log::warn("{}: {} non-finite samples were replaced by black", label, stats.dropped);
+
+  Image image(width, height, 3);
+  const float inv = 1.0f / static_cast<float>(stats.spp);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      image.set_rgb(x, y, sum[static_cast<size_t>(y) * width + x] * inv);
+  if (stats_out) *stats_out = stats;
+  return image;
+}
+
+}  // namespace illum
