@@ -128,17 +128,36 @@ TEST(LightSampler, AreaLightIrradianceMatchesClosedForm) {
   EXPECT_FALSE(ls.sample_li(0, vec3(0, 2 * h, 0), {0.3f, 0.3f}));
 }
 
-TEST(LightSampler, SelectionFollowsPower) {
+TEST(LightSampler, EmissionSelectionFollowsPower) {
   Scene s = base_scene();
   s.lights.push_back(point_light({0, 1, 0}, 1.0f));
   s.lights.push_back(point_light({0, 1, 1}, 3.0f));
   const LightSampler ls(s);
-  EXPECT_NEAR(ls.pmf(0), 0.25f, 1e-6f);
-  EXPECT_NEAR(ls.pmf(1), 0.75f, 1e-6f);
+  float pmf = 0.0f;
+  EXPECT_EQ(ls.choose_by_power(0.1f, &pmf), 0);
+  EXPECT_NEAR(pmf, 0.25f, 1e-6f);
+  EXPECT_EQ(ls.choose_by_power(0.9f, &pmf), 1);
+  EXPECT_NEAR(pmf, 0.75f, 1e-6f);
+}
+
+TEST(LightSampler, NextEventSelectionMixesPowerAndUniform) {
+  Scene s = base_scene();
+  s.lights.push_back(point_light({0, 1, 0}, 1.0f));
+  s.lights.push_back(point_light({0, 1, 1}, 3.0f));
+  const LightSampler ls(s);
+  // 0.5 * power share + 0.5 * uniform share.
+  EXPECT_NEAR(ls.pmf(0), 0.5f * 0.25f + 0.25f, 1e-6f);
+  EXPECT_NEAR(ls.pmf(1), 0.5f * 0.75f + 0.25f, 1e-6f);
   float pmf = 0.0f;
   EXPECT_EQ(ls.choose(0.1f, &pmf), 0);
+  EXPECT_NEAR(pmf, 0.375f, 1e-6f);
   EXPECT_EQ(ls.choose(0.9f, &pmf), 1);
-  EXPECT_NEAR(pmf, 0.75f, 1e-6f);
+  EXPECT_NEAR(pmf, 0.625f, 1e-6f);
+  // A light a million times weaker still gets at least a quarter of the samples.
+  Scene t = base_scene();
+  t.lights.push_back(point_light({0, 1, 0}, 1e-6f));
+  t.lights.push_back(point_light({0, 1, 1}, 1.0f));
+  EXPECT_GT(LightSampler(t).pmf(0), 0.25f);
 }
 
 Scene env_scene() {

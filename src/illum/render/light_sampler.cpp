@@ -154,9 +154,17 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
     if (!std::isfinite(weights[i])) weights[i] = 0.0f;
     total += weights[i];
   }
-  if (!(total > 0.0f)) std::fill(weights.begin(), weights.end(), 1.0f);
-  if (!weights.empty())
-    selection_ = Distribution1D(weights.data(), static_cast<int>(weights.size()));
+  if (!(total > 0.0f)) {
+    std::fill(weights.begin(), weights.end(), 1.0f);
+    total = static_cast<float>(weights.size());
+  }
+  if (!weights.empty()) {
+    power_selection_ = Distribution1D(weights.data(), static_cast<int>(weights.size()));
+    std::vector<float> mixed(weights.size());
+    const float uniform = 1.0f / static_cast<float>(weights.size());
+    for (size_t i = 0; i < weights.size(); ++i) mixed[i] = 0.5f * weights[i] / total + 0.5f * uniform;
+    selection_ = Distribution1D(mixed.data(), static_cast<int>(mixed.size()));
+  }
 }
 
 bool LightSampler::is_delta(int light) const {
@@ -181,6 +189,14 @@ int LightSampler::choose(float u, float* pmf) const {
 float LightSampler::pmf(int light) const {
   if (light < 0 || light >= light_count()) return 0.0f;
   return selection_.pmf(light);
+}
+
+int LightSampler::choose_by_power(float u, float* pmf) const {
+  if (lights_.empty()) {
+    if (pmf) *pmf = 0.0f;
+    return -1;
+  }
+  return power_selection_.sample_discrete(u, pmf);
 }
 
 const LightSampler::Triangle& LightSampler::sample_triangle(const Entry& e, const vec2& u, vec3* p,
@@ -375,7 +391,7 @@ std::optional<LightEmission> LightSampler::sample_emission(int light, const vec2
 std::optional<LightEmission> LightSampler::sample_emission(float u_light, const vec2& u_pos,
                                                            const vec2& u_dir) const {
   float pmf = 0.0f;
-  const int light = choose(u_light, &pmf);
+  const int light = choose_by_power(u_light, &pmf);
   if (light < 0 || !(pmf > 0.0f)) return std::nullopt;
   std::optional<LightEmission> em = sample_emission(light, u_pos, u_dir);
   if (em) em->flux /= pmf;
