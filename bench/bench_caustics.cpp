@@ -43,12 +43,15 @@ std::vector<uint8_t> caustic_mask(const RayTracer& tracer, const Camera& camera,
   std::vector<uint8_t> mask(static_cast<size_t>(w) * h, 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const Ray ray = camera.generate_ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, w, h);
+      const Ray ray =
+          camera.generate_ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f, w, h);
       Hit hit;
       if (!tracer.intersect(ray, &hit)) continue;
       const vec3 p = ray.origin + hit.t * ray.direction;
       const Material& m = tracer.scene().materials[static_cast<size_t>(
-          tracer.scene().meshes[static_cast<size_t>(tracer.scene().instances[hit.instance].mesh)].material)];
+          tracer.scene()
+              .meshes[static_cast<size_t>(tracer.scene().instances[hit.instance].mesh)]
+              .material)];
       if (m.type == MaterialType::kLambert && std::abs(p.y) < 1e-3f &&
           std::hypot(p.x, p.z) <= kCausticRadius)
         mask[static_cast<size_t>(y) * w + x] = 1;
@@ -135,38 +138,53 @@ int run_caustics(SuiteArgs args) {
   uint64_t seed = 1;
   int caustic_photons = 0, sppm_photons = 200000;
   float exposure = 0.05f;
-  app.add_option("--size", size, "image width and height")->capture_default_str()->check(CLI::Range(8, 4096));
-  app.add_option("--seconds", seconds, "time per method")->capture_default_str()->check(CLI::Range(0.1, 1e6));
+  app.add_option("--size", size, "image width and height")
+      ->capture_default_str()
+      ->check(CLI::Range(8, 4096));
+  app.add_option("--seconds", seconds, "time per method")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 1e6));
   app.add_option("--reference-seconds", reference_seconds, "time of the SPPM reference")
-      ->capture_default_str()->check(CLI::Range(0.1, 1e7));
-  app.add_option("--reference", reference_path, "reuse this reference EXR instead of rendering one");
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 1e7));
+  app.add_option("--reference", reference_path,
+                 "reuse this reference EXR instead of rendering one");
   app.add_option("--out", out_dir, "folder for EXR images and the JSON")->capture_default_str();
   app.add_option("--images", images_dir, "also write the PNG figures here (e.g. docs/images)");
   app.add_option("--json", json_path, "write the results to this JSON file");
   app.add_option("--seed", seed, "seed")->capture_default_str();
   app.add_option("--caustic-photons", caustic_photons,
                  "photon integrator: caustic photons (0: as many as half of --seconds traces)")
-      ->capture_default_str()->check(CLI::Range(0, 1 << 30));
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1 << 30));
   app.add_option("--sppm-photons", sppm_photons, "SPPM photons per iteration")
-      ->capture_default_str()->check(CLI::Range(1, 1 << 30));
-  app.add_option("--threads", g_threads, "worker threads (0: all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 30));
+  app.add_option("--threads", g_threads, "worker threads (0: all cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4096));
   app.add_option("--exposure", exposure, "exposure of the PNG figures")->capture_default_str();
   if (!parse_args(app, args)) return 0;
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw Error(fmt::format("caustics: cannot create --out folder '{}': {}", out_dir, ec.message()));
+  if (ec)
+    throw Error(
+        fmt::format("caustics: cannot create --out folder '{}': {}", out_dir, ec.message()));
   if (!images_dir.empty() && !std::filesystem::is_directory(images_dir))
     throw Error(fmt::format("caustics: --images folder '{}' does not exist", images_dir));
 
-  nlohmann::json photon_params = {{"photons", 200000}, {"caustic_photons", caustic_photons},
-                                  {"k", 100}, {"final_gather", false}};
+  nlohmann::json photon_params = {{"photons", 200000},
+                                  {"caustic_photons", caustic_photons},
+                                  {"k", 100},
+                                  {"final_gather", false}};
   const nlohmann::json sppm_params = {{"photons_per_iteration", sppm_photons}, {"alpha", 0.7}};
   const nlohmann::json path_params = nlohmann::json::object();
   struct Method {
     const char* name;
     const nlohmann::json* params;
   };
-  const Method methods[] = {{"path", &path_params}, {"photon", &photon_params}, {"sppm", &sppm_params}};
+  const Method methods[] = {
+      {"path", &path_params}, {"photon", &photon_params}, {"sppm", &sppm_params}};
   nlohmann::json out = {{"suite", "caustics"},
                         {"machine", machine_info()},
                         {"size", size},
@@ -181,9 +199,12 @@ int run_caustics(SuiteArgs args) {
     const RayTracer tracer(scene);
     const Camera camera = *scene.camera;
     const std::vector<uint8_t> mask = caustic_mask(tracer, camera, size, size);
-    if (caustic_photons == 0) photon_params["caustic_photons"] = auto_caustic_photons(tracer, camera, seconds);
-    std::printf("(a) caustics, 100 W spot, %dx%d, %.1f s each (photon: %d caustic photons); caustic disc mean luminance:\n",
-                size, size, seconds, photon_params["caustic_photons"].get<int>());
+    if (caustic_photons == 0)
+      photon_params["caustic_photons"] = auto_caustic_photons(tracer, camera, seconds);
+    std::printf(
+        "(a) caustics, 100 W spot, %dx%d, %.1f s each (photon: %d caustic photons); caustic disc "
+        "mean luminance:\n",
+        size, size, seconds, photon_params["caustic_photons"].get<int>());
     nlohmann::json part;
     for (const Method& m : methods) {
       const Run r = render_for(tracer, camera, m.name, *m.params, size, seconds, seed);
@@ -191,19 +212,22 @@ int run_caustics(SuiteArgs args) {
       std::printf("  %-7s %8.2f s  disc mean %10.3f W/(sr m^2)\n", m.name, r.seconds, mean);
       part[m.name] = {{"seconds", r.seconds}, {"disc_mean_luminance", mean}, {"params", *m.params}};
       write_image(out_dir + "/caustics-" + m.name + "-spot.exr", r.image);
-      if (!images_dir.empty()) save_png(images_dir + "/caustics-" + m.name + "-spot.png", r.image, exposure);
+      if (!images_dir.empty())
+        save_png(images_dir + "/caustics-" + m.name + "-spot.png", r.image, exposure);
     }
     out["spot"] = part;
   }
 
   // (b) Sphere light.
   {
-    const std::string path = data_dir() + "/scenes/caustics-sphere-light/caustics-sphere-light.illum.json";
+    const std::string path =
+        data_dir() + "/scenes/caustics-sphere-light/caustics-sphere-light.illum.json";
     const Scene scene = load_scene(path);
     const RayTracer tracer(scene);
     const Camera camera = *scene.camera;
     const std::vector<uint8_t> mask = caustic_mask(tracer, camera, size, size);
-    if (caustic_photons == 0) photon_params["caustic_photons"] = auto_caustic_photons(tracer, camera, seconds);
+    if (caustic_photons == 0)
+      photon_params["caustic_photons"] = auto_caustic_photons(tracer, camera, seconds);
     size_t pixels = 0;
     for (uint8_t v : mask) pixels += v;
     Image reference;
@@ -214,19 +238,23 @@ int run_caustics(SuiteArgs args) {
         throw Error(fmt::format("caustics: --reference '{}' is {}x{}, not {}x{}", reference_path,
                                 reference.width(), reference.height(), size, size));
     } else {
-      const Run r = render_for(tracer, camera, "sppm", sppm_params, size, reference_seconds, seed + 1000);
+      const Run r =
+          render_for(tracer, camera, "sppm", sppm_params, size, reference_seconds, seed + 1000);
       reference = r.image;
       reference_time = r.seconds;
       ImageWriteOptions w;
       w.exr_half = false;
       write_image(out_dir + "/caustics-sphere-light-reference.exr", reference, w);
     }
-    if (!images_dir.empty()) save_png(images_dir + "/caustics-sphere-light-reference.png", reference, exposure);
+    if (!images_dir.empty())
+      save_png(images_dir + "/caustics-sphere-light-reference.png", reference, exposure);
     const double ref_mean = region_mean(reference, mask);
-    std::printf("(b) caustics-sphere-light, %dx%d, reference SPPM %.0f s, caustic disc %zu px, mean %.3f "
-                "(photon: %d caustic photons)\n",
-                size, size, reference_time, pixels, ref_mean, photon_params["caustic_photons"].get<int>());
-    nlohmann::json part = {{"reference_seconds", reference_time}, {"disc_pixels", pixels},
+    std::printf(
+        "(b) caustics-sphere-light, %dx%d, reference SPPM %.0f s, caustic disc %zu px, mean %.3f "
+        "(photon: %d caustic photons)\n",
+        size, size, reference_time, pixels, ref_mean, photon_params["caustic_photons"].get<int>());
+    nlohmann::json part = {{"reference_seconds", reference_time},
+                           {"disc_pixels", pixels},
                            {"reference_disc_mean_luminance", ref_mean}};
     double rel[3] = {0, 0, 0};
     int i = 0;
@@ -234,15 +262,19 @@ int run_caustics(SuiteArgs args) {
       const Run r = render_for(tracer, camera, m.name, *m.params, size, seconds, seed);
       rel[i] = relative_mse(r.image, reference, mask);
       const double mean = region_mean(r.image, mask);
-      std::printf("  %-7s %8.2f s  relMSE %10.5f  disc mean %10.3f\n", m.name, r.seconds, rel[i], mean);
-      part[m.name] = {{"seconds", r.seconds}, {"relative_mse", rel[i]}, {"disc_mean_luminance", mean},
+      std::printf("  %-7s %8.2f s  relMSE %10.5f  disc mean %10.3f\n", m.name, r.seconds, rel[i],
+                  mean);
+      part[m.name] = {{"seconds", r.seconds},
+                      {"relative_mse", rel[i]},
+                      {"disc_mean_luminance", mean},
                       {"params", *m.params}};
       write_image(out_dir + "/caustics-sphere-light-" + m.name + ".exr", r.image);
       if (!images_dir.empty())
         save_png(images_dir + "/caustics-sphere-light-" + m.name + ".png", r.image, exposure);
       ++i;
     }
-    std::printf("  relMSE ratio path/photon %.2f, path/sppm %.2f\n", rel[0] / rel[1], rel[0] / rel[2]);
+    std::printf("  relMSE ratio path/photon %.2f, path/sppm %.2f\n", rel[0] / rel[1],
+                rel[0] / rel[2]);
     part["ratio_path_over_photon"] = rel[0] / rel[1];
     part["ratio_path_over_sppm"] = rel[0] / rel[2];
     out["sphere_light"] = part;

@@ -68,13 +68,20 @@ int run_photons(SuiteArgs args) {
   int queries = 200000, k = 50, rounds = 3;
   std::string json_path;
   app.add_option("--counts", counts, "photon counts")->capture_default_str();
-  app.add_option("--queries", queries, "queries per round")->capture_default_str()->check(CLI::Range(1, 1 << 26));
-  app.add_option("--k", k, "neighbours per query")->capture_default_str()->check(CLI::Range(1, 10000));
-  app.add_option("--rounds", rounds, "timed rounds (median reported)")->capture_default_str()->check(CLI::Range(1, 100));
+  app.add_option("--queries", queries, "queries per round")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 26));
+  app.add_option("--k", k, "neighbours per query")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000));
+  app.add_option("--rounds", rounds, "timed rounds (median reported)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
   app.add_option("--json", json_path, "write the results to this JSON file");
   if (!parse_args(app, args)) return 0;
   for (int64_t c : counts)
-    if (c < 1 || c > 200000000) throw Error(fmt::format("photons: --counts {} is out of range [1, 2e8]", c));
+    if (c < 1 || c > 200000000)
+      throw Error(fmt::format("photons: --counts {} is out of range [1, 2e8]", c));
 
   nlohmann::json out = {{"suite", "photons"},
                         {"machine", machine_info()},
@@ -82,12 +89,13 @@ int run_photons(SuiteArgs args) {
                         {"k", k},
                         {"queries", queries},
                         {"results", nlohmann::json::array()}};
-  std::printf("%10s %9s %9s | %12s %12s | %12s %12s | %12s %12s\n", "photons", "build", "nano", "knn us/q",
-              "nano", "radius us/q", "nano", "knn ratio", "radius ratio");
+  std::printf("%10s %9s %9s | %12s %12s | %12s %12s | %12s %12s\n", "photons", "build", "nano",
+              "knn us/q", "nano", "radius us/q", "nano", "knn ratio", "radius ratio");
   for (int64_t count : counts) {
     const std::vector<vec3> points = cube_surface_points(static_cast<size_t>(count), 1);
     const std::vector<vec3> qs = cube_surface_points(static_cast<size_t>(queries), 2);
-    const float radius = std::sqrt(static_cast<float>(k) * 6.0f / (kPi * static_cast<float>(count)));
+    const float radius =
+        std::sqrt(static_cast<float>(k) * 6.0f / (kPi * static_cast<float>(count)));
     std::vector<double> build_ours, build_nano, knn_ours, knn_nano, rad_ours, rad_nano;
     double checksum_ours = 0.0, checksum_nano = 0.0;
     for (int round = 0; round < rounds; ++round) {
@@ -103,49 +111,65 @@ int run_photons(SuiteArgs args) {
 
       std::vector<double> sums(static_cast<size_t>(queries));
       t0 = now();
-      parallel_for(queries, [&](int64_t b, int64_t e) {
-        std::vector<PhotonNeighbor> nb;
-        for (int64_t i = b; i < e; ++i) sums[static_cast<size_t>(i)] = map.knn(qs[static_cast<size_t>(i)], k, kInf, &nb);
-      }, 256);
+      parallel_for(
+          queries,
+          [&](int64_t b, int64_t e) {
+            std::vector<PhotonNeighbor> nb;
+            for (int64_t i = b; i < e; ++i)
+              sums[static_cast<size_t>(i)] = map.knn(qs[static_cast<size_t>(i)], k, kInf, &nb);
+          },
+          256);
       knn_ours.push_back((now() - t0) / queries * 1e6);
       checksum_ours = 0.0;
       for (double s : sums) checksum_ours += s;
       t0 = now();
-      parallel_for(queries, [&](int64_t b, int64_t e) {
-        std::vector<uint32_t> idx(static_cast<size_t>(k));
-        std::vector<float> d2(static_cast<size_t>(k));
-        for (int64_t i = b; i < e; ++i) {
-          nanoflann::KNNResultSet<float, uint32_t> rs(static_cast<uint32_t>(k));
-          rs.init(idx.data(), d2.data());
-          tree.findNeighbors(rs, &qs[static_cast<size_t>(i)].x, nanoflann::SearchParams());
-          sums[static_cast<size_t>(i)] = rs.size() ? d2[rs.size() - 1] : 0.0f;
-        }
-      }, 256);
+      parallel_for(
+          queries,
+          [&](int64_t b, int64_t e) {
+            std::vector<uint32_t> idx(static_cast<size_t>(k));
+            std::vector<float> d2(static_cast<size_t>(k));
+            for (int64_t i = b; i < e; ++i) {
+              nanoflann::KNNResultSet<float, uint32_t> rs(static_cast<uint32_t>(k));
+              rs.init(idx.data(), d2.data());
+              tree.findNeighbors(rs, &qs[static_cast<size_t>(i)].x, nanoflann::SearchParams());
+              sums[static_cast<size_t>(i)] = rs.size() ? d2[rs.size() - 1] : 0.0f;
+            }
+          },
+          256);
       knn_nano.push_back((now() - t0) / queries * 1e6);
       checksum_nano = 0.0;
       for (double s : sums) checksum_nano += s;
 
       t0 = now();
-      parallel_for(queries, [&](int64_t b, int64_t e) {
-        for (int64_t i = b; i < e; ++i) {
-          size_t c = 0;
-          map.for_each_in_radius(qs[static_cast<size_t>(i)], radius, [&](uint32_t, float) { ++c; });
-          sums[static_cast<size_t>(i)] = static_cast<double>(c);
-        }
-      }, 256);
+      parallel_for(
+          queries,
+          [&](int64_t b, int64_t e) {
+            for (int64_t i = b; i < e; ++i) {
+              size_t c = 0;
+              map.for_each_in_radius(qs[static_cast<size_t>(i)], radius,
+                                     [&](uint32_t, float) { ++c; });
+              sums[static_cast<size_t>(i)] = static_cast<double>(c);
+            }
+          },
+          256);
       rad_ours.push_back((now() - t0) / queries * 1e6);
       t0 = now();
-      parallel_for(queries, [&](int64_t b, int64_t e) {
-        std::vector<std::pair<uint32_t, float>> found;
-        for (int64_t i = b; i < e; ++i)
-          sums[static_cast<size_t>(i)] = static_cast<double>(tree.radiusSearch(
-              &qs[static_cast<size_t>(i)].x, radius * radius, found, nanoflann::SearchParams(32, 0.0f, false)));
-      }, 256);
+      parallel_for(
+          queries,
+          [&](int64_t b, int64_t e) {
+            std::vector<std::pair<uint32_t, float>> found;
+            for (int64_t i = b; i < e; ++i)
+              sums[static_cast<size_t>(i)] = static_cast<double>(
+                  tree.radiusSearch(&qs[static_cast<size_t>(i)].x, radius * radius, found,
+                                    nanoflann::SearchParams(32, 0.0f, false)));
+          },
+          256);
       rad_nano.push_back((now() - t0) / queries * 1e6);
     }
     // The two k-NN searches must agree on the k-th distance (same points, same queries).
     if (std::abs(checksum_ours - checksum_nano) > 1e-4 * std::abs(checksum_nano))
-      throw Error(fmt::format("photons: k-NN results differ ({} vs {})", checksum_ours, checksum_nano));
+      throw Error(
+          fmt::format("photons: k-NN results differ ({} vs {})", checksum_ours, checksum_nano));
     const double bo = median(build_ours), bn = median(build_nano), ko = median(knn_ours),
                  kn = median(knn_nano), ro = median(rad_ours), rn = median(rad_nano);
     std::printf("%10lld %8.3fs %8.3fs | %12.3f %12.3f | %12.3f %12.3f | %12.2f %12.2f\n",

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <vector>
 
+#include "../core/chi_square.h"
 #include "illum/core/sampling.h"
 #include "illum/render/bsdf.h"
 
@@ -214,6 +216,53 @@ TEST(Bsdf, DeltaLobesConserveEnergyAndObeySnell) {
   ASSERT_TRUE(s);
   EXPECT_NEAR(s->weight.g, 0.9f, 1e-6f);
   EXPECT_EQ(m.eval(direction_at(0.5f), s->wi).g, 0.0f);  // delta: eval is zero
+}
+
+TEST(Bsdf, SampledDirectionsFollowPdfChiSquare) {
+  // Pearson's test of BSDF-sampled directions against pdf() integrated over a (cos θ, φ)
+  // grid (solid angle = d cos θ dφ, so pdf needs no Jacobian); failed samples (directions
+  // below the surface) get their own cell with the remaining probability 1 − ∫pdf.
+  const Frame frame;  // local = world
+  const test::Grid grid{16, 32, 0.0, 1.0, -std::numbers::pi, std::numbers::pi};
+  std::mt19937 gen(23);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  const std::vector<Case> cases = {
+      {"lambert", make(MaterialType::kLambert, 0.8f, 0.0f, 1.0f)},
+      {"phong-mixed-n8", make(MaterialType::kPhong, 0.4f, 0.5f, 8.0f)},
+      {"phong-pure-n3", make(MaterialType::kPhong, 0.0f, 1.0f, 3.0f)},
+      {"blinn-mixed-n8", make(MaterialType::kBlinn, 0.4f, 0.5f, 8.0f)},
+      {"blinn-pure-n3", make(MaterialType::kBlinn, 0.0f, 1.0f, 3.0f)},
+  };
+  constexpr int kN = 200000;
+  for (const Case& c : cases) {
+    const Bsdf bsdf(c.m, c.m.albedo, frame, frame.n);
+    const vec3 wo = glm::normalize(vec3(0.6f, 0.1f, 0.8f));
+    std::vector<double> observed(static_cast<size_t>(grid.cell_count()) + 1, 0.0);
+    for (int i = 0; i < kN; ++i) {
+      const auto smp = bsdf.sample(wo, u01(gen), {u01(gen), u01(gen)});
+      if (!smp) {
+        observed.back() += 1.0;
+        continue;
+      }
+      const int cell = grid.cell(smp->wi.z, std::atan2(smp->wi.y, smp->wi.x));
+      ASSERT_GE(cell, 0) << c.name;
+      observed[static_cast<size_t>(cell)] += 1.0;
+    }
+    std::vector<double> expected = test::expected_counts(
+        grid,
+        [&](double cos_t, double phi) {
+          const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+          const vec3 wi(static_cast<float>(sin_t * std::cos(phi)),
+                        static_cast<float>(sin_t * std::sin(phi)), static_cast<float>(cos_t));
+          return static_cast<double>(bsdf.pdf(wo, wi));
+        },
+        kN, 8);
+    const double total = std::accumulate(expected.begin(), expected.end(), 0.0);
+    expected.push_back(std::max(0.0, kN - total));
+    const test::ChiSquareResult r = test::chi_square_test(observed, expected);
+    EXPECT_GT(r.p_value, test::kSignificance)
+        << c.name << ": chi² " << r.statistic << " dof " << r.dof;
+  }
 }
 
 }  // namespace

@@ -331,6 +331,39 @@ TEST(DirectLighting, WhittedMatchesPathDirectForPointLights) {
   }
 }
 
+TEST(Whitted, ShadowsOffReproducesTheUnshadowedSeedImage) {
+  // shadows=false (S004's first image) lights every surface point as if nothing occluded
+  // the lights: never darker than with shadows, brighter where the box casts its shadow,
+  // and on the plane exactly the analytic unshadowed sum of the point lights.
+  const Scene s = occluded_scene();
+  const Camera cam = top_camera();
+  const int size = 24;
+  const Image on = render("whitted", nlohmann::json::object(), s, cam, size, 4);
+  const Image off = render("whitted", {{"shadows", false}}, s, cam, size, 4);
+  int brighter = 0;
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      ASSERT_GE(off.pixel(x, y)[1], on.pixel(x, y)[1]);
+      brighter += off.pixel(x, y)[1] > on.pixel(x, y)[1] * 1.01f;
+    }
+  }
+  EXPECT_GT(brighter, 5);
+  // A pixel whose footprint lies on the plane in the box's shadow region is still bounded
+  // by the analytic unshadowed value.
+  auto analytic = [&](const vec3& p) {
+    double l = 0;
+    for (const Light& light : s.lights) {
+      const vec3 d = light.position - p;
+      const double r2 = glm::dot(d, d);
+      l += 0.7 / std::numbers::pi * light.intensity.g * (d.y / std::sqrt(r2)) / r2;
+    }
+    return l;
+  };
+  const auto [lo, hi] = footprint_range(cam, 0, 0, size, analytic);  // a corner: plane only
+  EXPECT_GE(off.pixel(0, 0)[1], lo * (1 - 1e-4));
+  EXPECT_LE(off.pixel(0, 0)[1], hi * (1 + 1e-4));
+}
+
 Scene closed_box(float albedo, float le) {
   Scene s;
   s.name = "closed-box";

@@ -255,5 +255,44 @@ TEST(LightSampler, EmissionCarriesEachLightsPower) {
   EXPECT_NEAR(total.mean(), ls.total_power().g, kZ * total.err() + 1e-4 * ls.total_power().g);
 }
 
+TEST(LightSampler, TexturedEmitterPowerAndEmission) {
+  // An emitter whose emission texture is bright on one half: its power is π·A·L_e·(texture
+  // mean), photons carry it on average, and no photon leaves the black half.
+  Scene s = base_scene();
+  Texture tex;
+  tex.image = Image(4, 2, 3, 0.0f);
+  for (int y = 0; y < 2; ++y) {
+    for (int x = 2; x < 4; ++x) tex.image.set_rgb(x, y, Color(1.0f));
+  }
+  s.textures.push_back(tex);
+  Material emitter;
+  emitter.emission = Color(5.0f);
+  emitter.emission_texture = 0;
+  const int m = test::add_material(s, emitter);
+  std::vector<vec3> quad;
+  test::push_quad(quad, {-0.5f, 1, -0.25f}, {0.5f, 1, -0.25f}, {0.5f, 1, 0.25f}, {-0.5f, 1, 0.25f});
+  const int inst = test::add_triangles(s, quad, m, "light");
+  s.meshes.back().uv0 = {{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}};
+  s.lights.push_back(test::area_light(inst));
+  const LightSampler ls(s);
+  EXPECT_NEAR(ls.power(0).g, kPi * 0.5f * 5.0f * 0.5f, 1e-4f);
+  std::mt19937 gen(17);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  Stat flux;
+  for (int i = 0; i < 100000; ++i) {
+    const auto em = ls.sample_emission(0, {u01(gen), u01(gen)}, {u01(gen), u01(gen)});
+    if (!em) {
+      flux.add(0.0);
+      continue;
+    }
+    // u in [0.125, 0.375] (x in [−0.375, −0.125]) lies between two black texel centres, so
+    // it stays black under bilinear filtering (which wraps around u = 0 into the bright
+    // texel 3): no photon starts there.
+    ASSERT_FALSE(em->ray.origin.x > -0.37f && em->ray.origin.x < -0.13f) << em->ray.origin.x;
+    flux.add(em->flux.g);
+  }
+  EXPECT_NEAR(flux.mean(), ls.power(0).g, kZ * flux.err());
+}
+
 }  // namespace
 }  // namespace illum

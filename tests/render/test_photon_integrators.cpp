@@ -21,7 +21,9 @@
 namespace illum {
 namespace {
 
-Params params(const nlohmann::json& j) { return Params(j, "--param"); }
+Params params(const nlohmann::json& j) {
+  return Params(j, "--param");
+}
 
 Image render(const std::string& name, const nlohmann::json& p, const Scene& scene,
              const Camera& cam, int size, int spp, uint64_t seed) {
@@ -68,7 +70,8 @@ Scene furnace_sphere(float a) {
   m.albedo = Color(a);
   m.emission = Color(1.0f);
   const int mat = test::add_material(s, m);
-  const int inst = test::add_triangles(s, test::inward_sphere(vec3(0), 1.0f, 24, 48), mat, "sphere");
+  const int inst =
+      test::add_triangles(s, test::inward_sphere(vec3(0), 1.0f, 24, 48), mat, "sphere");
   s.lights.push_back(test::area_light(inst));
   return s;
 }
@@ -88,14 +91,18 @@ TEST(PhotonIntegrator, WhiteFurnaceFromTheGlobalMap) {
   // chord distance r is exactly πr², so the planar analysis holds).
   const int k = 50;
   FilterSettings cone;
-  const double knn_bias = 1.0 + filter_weight(cone, 1.0f, 1.0f) / (filter_normalization(cone) * (k - 1));
+  const double knn_bias =
+      1.0 + filter_weight(cone, 1.0f, 1.0f) / (filter_normalization(cone) * (k - 1));
   for (const float a : {0.5f, 0.8f}) {
     const Scene s = furnace_sphere(a);
     std::vector<double> means;
     for (int seed = 0; seed < kSeeds; ++seed) {
       const Image img = render("photon",
-                               {{"photons", 20000}, {"caustic_photons", 0}, {"k", k},
-                                {"final_gather", false}, {"max_depth", 1000}},
+                               {{"photons", 20000},
+                                {"caustic_photons", 0},
+                                {"k", k},
+                                {"final_gather", false},
+                                {"max_depth", 1000}},
                                s, inside_camera(), 12, 2, 100 + seed);
       means.push_back(image_mean(img));
     }
@@ -112,8 +119,10 @@ TEST(SppmIntegrator, WhiteFurnace) {
     std::vector<double> means;
     for (int seed = 0; seed < kSeeds; ++seed) {
       const Image img = render("sppm",
-                               {{"iterations", 6}, {"photons_per_iteration", 10000},
-                                {"initial_radius", 0.15}, {"max_depth", 1000}},
+                               {{"iterations", 6},
+                                {"photons_per_iteration", 10000},
+                                {"initial_radius", 0.15},
+                                {"max_depth", 1000}},
                                s, inside_camera(), 12, 1, 200 + seed);
       means.push_back(image_mean(img));
     }
@@ -157,13 +166,13 @@ void check_irradiance_from_photons(const Light& light, float h, const std::vecto
   const float scale = 1.0f / static_cast<float>(n);
   std::vector<Photon> direct = trace_photons_parallel<Photon>(
       lights, n, 7, 1, [&](int64_t, const LightEmission& e, Rng& rng, std::vector<Photon>& sink) {
-        trace_photon_path(tracer, e, rng, PhotonPathSettings{},
-                          [&](const PhotonEvent& ev) {
-                            if (ev.depth == 0)
-                              sink.push_back(Photon{ev.p, ev.wi, ev.power * scale, ev.ng});
-                            return false;
-                          },
-                          [](const PhotonEvent&) {});
+        trace_photon_path(
+            tracer, e, rng, PhotonPathSettings{},
+            [&](const PhotonEvent& ev) {
+              if (ev.depth == 0) sink.push_back(Photon{ev.p, ev.wi, ev.power * scale, ev.ng});
+              return false;
+            },
+            [](const PhotonEvent&) {});
       });
   ASSERT_FALSE(direct.empty());
   const float phi = direct.front().power.g;  // every direct photon carries Φ/N
@@ -173,9 +182,12 @@ void check_irradiance_from_photons(const Light& light, float h, const std::vecto
   box.type = PhotonFilter::kNone;
   std::vector<PhotonNeighbor> scratch;
   for (float x : xs) {
-    const double est = estimate_radiance(map, vec3(x, 0, 0), 0, r, box,
-                                         [](const Photon&) { return Color(1.0f); }, &scratch).g;
-    const double expect = disc_average_irradiance(light.intensity.g, h, light.type == LightType::kSpot ? light.cos_cutoff() : -1.0f, x, r);
+    const double est =
+        estimate_radiance(
+            map, vec3(x, 0, 0), 0, r, box, [](const Photon&) { return Color(1.0f); }, &scratch)
+            .g;
+    const double expect = disc_average_irradiance(
+        light.intensity.g, h, light.type == LightType::kSpot ? light.cos_cutoff() : -1.0f, x, r);
     // Photon count in the disc is Poisson with mean λ = E·πr²/φ: σ(E) = √(E·φ/(πr²)).
     const double sigma = std::sqrt(expect * phi / (kPi * r * r));
     // The analytic point value differs from the disc average by ≈ r²ΔE/8, reported only.
@@ -183,6 +195,70 @@ void check_irradiance_from_photons(const Light& light, float h, const std::vecto
     const double e_point = light.intensity.g * h / (std::sqrt(point) * point);
     EXPECT_NEAR(est, expect, 4.5 * sigma + 1e-9)
         << "x = " << x << ": point value I cosθ/r² = " << e_point;
+  }
+}
+
+TEST(PhotonIntegrator, ShadowPhotonsReproduceShadowsFarFromEdges) {
+  // A point light 1 m above a floor (albedo 0.5) and a 0.6 m square occluder (albedo 0,
+  // so nothing bounces) 0.5 m above the floor: the floor's centre lies in the umbra, the
+  // far floor in full light. With shadow_photons = seed, direct light comes without shadow
+  // rays and the negative-flux photons subtract it: in the umbra the expectation is the
+  // unshadowed radiance times (1 − b), b the k-NN bias factor of the shadow estimate
+  // (see WhiteFurnaceFromTheGlobalMap), i.e. ≈ 0; in full light nothing is subtracted.
+  // `skip` must agree with `off` in both places (it only skips shadow rays).
+  Scene s;
+  Material floor_m, black;
+  floor_m.albedo = Color(0.5f);
+  black.albedo = Color(0.0f);
+  test::add_triangles(s, test::floor_quad(3.0f), test::add_material(s, floor_m), "floor");
+  std::vector<vec3> occ;
+  test::push_quad(occ, {-0.3f, 0.5f, 0.3f}, {-0.3f, 0.5f, -0.3f}, {0.3f, 0.5f, -0.3f},
+                  {0.3f, 0.5f, 0.3f});
+  test::add_triangles(s, occ, test::add_material(s, black), "occluder");
+  Light l;
+  l.type = LightType::kPoint;
+  l.position = vec3(0, 1.0f, 0);
+  l.intensity = Color(10.0f);
+  s.lights.push_back(l);
+  auto look_down_at = [](float x) {
+    Camera c;
+    c.position = vec3(x, 0.25f, 0.0f);  // below the occluder
+    c.look_at = vec3(x, 0.0f, 0.0f);
+    c.up = vec3(0, 0, -1);
+    c.fov_y = radians(40.0f);  // sees a 0.18 m wide patch
+    return c;
+  };
+  const int k = 50;
+  FilterSettings cone;
+  const double b = 1.0 + filter_weight(cone, 1.0f, 1.0f) / (filter_normalization(cone) * (k - 1));
+  for (const float x : {0.0f, 2.0f}) {  // umbra (edge at 0.6 m), full light
+    std::vector<double> off, seed, skip;
+    for (int i = 0; i < kSeeds; ++i) {
+      auto run = [&](const char* mode) {
+        return image_mean(render("photon",
+                                 {{"photons", 100000},
+                                  {"caustic_photons", 0},
+                                  {"k", k},
+                                  {"final_gather", false},
+                                  {"shadow_photons", mode}},
+                                 s, look_down_at(x), 8, 4, 500 + i));
+      };
+      off.push_back(run("off"));
+      seed.push_back(run("seed"));
+      skip.push_back(run("skip"));
+    }
+    const SeedStats so = seed_stats(off), ss = seed_stats(seed), sk = seed_stats(skip);
+    if (x == 0.0f) {
+      EXPECT_EQ(so.mean, 0.0);
+      EXPECT_EQ(sk.mean, 0.0);
+      // Unshadowed radiance f·I·cosθ/r² ≤ (0.5/π)·10 on the patch (r ≥ 1 m).
+      const double l0 = 0.5 / kPi * 10.0;
+      EXPECT_NEAR(ss.mean, 0.0, kT5 * ss.sd / std::sqrt(ss.n) + l0 * (b - 1.0) + 1e-9)
+          << "seed mode in the umbra";
+    } else {
+      EXPECT_NEAR(ss.mean, so.mean, kT5 * std::sqrt((ss.sd * ss.sd + so.sd * so.sd) / ss.n) + 1e-9);
+      EXPECT_NEAR(sk.mean, so.mean, kT5 * std::sqrt((sk.sd * sk.sd + so.sd * so.sd) / sk.n) + 1e-9);
+    }
   }
 }
 
@@ -233,13 +309,14 @@ TEST(PhotonTracer, NeverCreatesEnergy) {
   const std::vector<Total> totals = trace_photons_parallel<Total>(
       lights, n, 3, 2, [&](int64_t, const LightEmission& e, Rng& rng, std::vector<Total>& sink) {
         Total t{Color(0.0f), 0.0f};
-        trace_photon_path(tracer, e, rng, path,
-                          [&](const PhotonEvent& ev) {
-                            t.power += ev.power;
-                            t.max_seen = std::max(t.max_seen, max_component(ev.power));
-                            return true;
-                          },
-                          [](const PhotonEvent&) {});
+        trace_photon_path(
+            tracer, e, rng, path,
+            [&](const PhotonEvent& ev) {
+              t.power += ev.power;
+              t.max_seen = std::max(t.max_seen, max_component(ev.power));
+              return true;
+            },
+            [](const PhotonEvent&) {});
         sink.push_back(t);
       });
   ASSERT_EQ(static_cast<int64_t>(totals.size()), n);
@@ -292,18 +369,20 @@ TEST(SppmIntegrator, AgreesWithThePathTracerOnTheCornellBox) {
   ASSERT_TRUE(s.camera.has_value());
   std::vector<double> path, sppm;
   for (int seed = 0; seed < kSeeds; ++seed) {
-    path.push_back(image_mean(render("path", {{"max_bounces", 64}}, s, *s.camera, 32, 32, 300 + seed)));
+    path.push_back(
+        image_mean(render("path", {{"max_bounces", 64}}, s, *s.camera, 32, 32, 300 + seed)));
     sppm.push_back(image_mean(render("sppm",
-                                     {{"iterations", 16}, {"photons_per_iteration", 20000},
-                                      {"initial_radius", 0.005}, {"max_depth", 64}},
+                                     {{"iterations", 16},
+                                      {"photons_per_iteration", 20000},
+                                      {"initial_radius", 0.005},
+                                      {"max_depth", 64}},
                                      s, *s.camera, 32, 1, 400 + seed)));
   }
   const SeedStats p = seed_stats(path), q = seed_stats(sppm);
   const double se = std::sqrt(p.sd * p.sd / p.n + q.sd * q.sd / q.n);
-  EXPECT_NEAR(q.mean, p.mean, kT5 * se) << "path " << p.mean << " ± " << p.sd << ", sppm "
-                                         << q.mean << " ± " << q.sd;
+  EXPECT_NEAR(q.mean, p.mean, kT5 * se)
+      << "path " << p.mean << " ± " << p.sd << ", sppm " << q.mean << " ± " << q.sd;
 }
-
 
 TEST(PhotonShading, DirectLightingMatchesTheAreaLightIntegral) {
   // Cornell light (0.13 × 0.105 m at y = 0.5487, Le = (17, 12, 4)) seen from floor points,
@@ -324,7 +403,8 @@ TEST(PhotonShading, DirectLightingMatchesTheAreaLightIntegral) {
     const int n = 100000;
     for (int i = 0; i < n; ++i) {
       const double v = photon_direct_lighting(tracer, lights, si, bsdf, si.wo, rng.next_float(),
-                                              vec2(rng.next_float(), rng.next_float()), false).g;
+                                              vec2(rng.next_float(), rng.next_float()), false)
+                           .g;
       sum += v;
       sum2 += v * v;
     }

@@ -154,7 +154,8 @@ TEST(PhotonEstimate, UniformDensityAllFilters) {
         1.0 + filter_weight(filter, 1.0f, 1.0f) / (filter_normalization(filter) * (k - 1));
     EXPECT_NEAR(knn_mean / expected, knn_bias, 4.0 * sigma_knn)
         << "filter " << static_cast<int>(type);
-    EXPECT_NEAR(fixed_mean / expected, 1.0, 4.0 * sigma_fixed) << "filter " << static_cast<int>(type);
+    EXPECT_NEAR(fixed_mean / expected, 1.0, 4.0 * sigma_fixed)
+        << "filter " << static_cast<int>(type);
   }
 }
 

@@ -162,7 +162,8 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
     power_selection_ = Distribution1D(weights.data(), static_cast<int>(weights.size()));
     std::vector<float> mixed(weights.size());
     const float uniform = 1.0f / static_cast<float>(weights.size());
-    for (size_t i = 0; i < weights.size(); ++i) mixed[i] = 0.5f * weights[i] / total + 0.5f * uniform;
+    for (size_t i = 0; i < weights.size(); ++i)
+      mixed[i] = 0.5f * weights[i] / total + 0.5f * uniform;
     selection_ = Distribution1D(mixed.data(), static_cast<int>(mixed.size()));
   }
 }

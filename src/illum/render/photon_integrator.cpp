@@ -21,7 +21,8 @@ PhotonIntegrator::ShadowMode parse_shadow_mode(const std::string& s) {
   if (s == "off") return PhotonIntegrator::ShadowMode::kOff;
   if (s == "seed") return PhotonIntegrator::ShadowMode::kSeed;
   if (s == "skip") return PhotonIntegrator::ShadowMode::kSkip;
-  throw Error(fmt::format("photon: shadow_photons '{}' is unknown (expected off, seed or skip)", s));
+  throw Error(
+      fmt::format("photon: shadow_photons '{}' is unknown (expected off, seed or skip)", s));
 }
 
 }  // namespace
@@ -38,8 +39,7 @@ PhotonIntegrator::PhotonIntegrator(const Params& params) {
   if (k_ < 0) throw Error(fmt::format("photon: k must be ≥ 0 (got {})", k_));
   if (params.has("radius")) {
     radius_ = params.get<float>("radius");
-    if (!(radius_ > 0.0f))
-      throw Error(fmt::format("photon: radius must be > 0 (got {})", radius_));
+    if (!(radius_ > 0.0f)) throw Error(fmt::format("photon: radius must be > 0 (got {})", radius_));
   }
   filter_.type = parse_photon_filter(params.get<std::string>("filter", "cone"));
   filter_.cone_k = params.get<float>("cone_k", 1.1f);
@@ -76,10 +76,11 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
     ThreadLimit limit(options.threads);
     maps = build_photon_maps(tracer, lights, ms);
   }
-  log::info("photon: {} global, {} caustic, {} shadow photons stored ({:.2f} s tracing, {:.2f} s "
-            "building)",
-            maps.global.size(), maps.caustic.size(), maps.shadow.size(), maps.trace_seconds,
-            maps.build_seconds);
+  log::info(
+      "photon: {} global, {} caustic, {} shadow photons stored ({:.2f} s tracing, {:.2f} s "
+      "building)",
+      maps.global.size(), maps.caustic.size(), maps.shadow.size(), maps.trace_seconds,
+      maps.build_seconds);
   const bool skip_usable = shadow_ == ShadowMode::kSkip && lights.light_count() == 1;
   constexpr int kShadowK = 16;
 
@@ -89,7 +90,8 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
     const float u_light = sampler.next_1d();
     const vec2 u = sampler.next_2d();
     if (shadow_ == ShadowMode::kSeed) {
-      const Color unshadowed = photon_direct_lighting(tracer, lights, si, bsdf, wo, u_light, u, false);
+      const Color unshadowed =
+          photon_direct_lighting(tracer, lights, si, bsdf, wo, u_light, u, false);
       const Color shadow = estimate_radiance(
           maps.shadow, si.p, k_, radius, filter_,
           [&](const Photon& ph) {
@@ -165,34 +167,37 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
   if (options.time_budget_s > 0.0)
     tile_options.time_budget_s =
         std::max(1e-3, options.time_budget_s - maps.trace_seconds - maps.build_seconds);
-  return render_tiles(camera, tile_options, "photon", [&](const Ray& camera_ray, SobolSampler& sampler) {
-    thread_local std::vector<PhotonNeighbor> scratch;
-    Color L(0.0f), beta(1.0f);
-    Ray ray = camera_ray;
-    for (int depth = 0; depth <= max_depth; ++depth) {
-      Hit hit;
-      if (!tracer.intersect(ray, &hit)) {
-        // Seen directly or through delta surfaces only: nothing else accounts for it.
-        if (lights.environment_light() >= 0) L += beta * lights.environment_radiance(ray.direction);
-        break;
-      }
-      const SurfaceInteraction si = tracer.interaction(ray, hit);
-      L += beta * surface_emission(scene, si);
-      const Bsdf bsdf(scene, si);
-      const vec3 wo = -ray.direction;
-      if (!bsdf.is_delta()) {
-        L += beta * (direct(si, bsdf, wo, sampler, &scratch) + caustics(si, bsdf, wo, &scratch));
-        L += beta * (final_gather_ ? gather(si, bsdf, wo, sampler, &scratch)
-                                   : global(si, bsdf, wo, &scratch));
-        break;
-      }
-      const std::optional<BsdfSample> s = bsdf.sample(wo, sampler.next_1d(), sampler.next_2d());
-      if (!s || is_black(s->weight)) break;
-      beta *= s->weight;
-      ray = Ray{offset_ray_origin(si.p, si.ng, s->wi), s->wi};
-    }
-    return L;
-  });
+  return render_tiles(
+      camera, tile_options, "photon", [&](const Ray& camera_ray, SobolSampler& sampler) {
+        thread_local std::vector<PhotonNeighbor> scratch;
+        Color L(0.0f), beta(1.0f);
+        Ray ray = camera_ray;
+        for (int depth = 0; depth <= max_depth; ++depth) {
+          Hit hit;
+          if (!tracer.intersect(ray, &hit)) {
+            // Seen directly or through delta surfaces only: nothing else accounts for it.
+            if (lights.environment_light() >= 0)
+              L += beta * lights.environment_radiance(ray.direction);
+            break;
+          }
+          const SurfaceInteraction si = tracer.interaction(ray, hit);
+          L += beta * surface_emission(scene, si);
+          const Bsdf bsdf(scene, si);
+          const vec3 wo = -ray.direction;
+          if (!bsdf.is_delta()) {
+            L +=
+                beta * (direct(si, bsdf, wo, sampler, &scratch) + caustics(si, bsdf, wo, &scratch));
+            L += beta * (final_gather_ ? gather(si, bsdf, wo, sampler, &scratch)
+                                       : global(si, bsdf, wo, &scratch));
+            break;
+          }
+          const std::optional<BsdfSample> s = bsdf.sample(wo, sampler.next_1d(), sampler.next_2d());
+          if (!s || is_black(s->weight)) break;
+          beta *= s->weight;
+          ray = Ray{offset_ray_origin(si.p, si.ng, s->wi), s->wi};
+        }
+        return L;
+      });
 }
 
 }  // namespace illum

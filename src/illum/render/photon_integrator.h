@@ -36,7 +36,8 @@ namespace illum {
 class PhotonIntegrator final : public Integrator {
  public:
   explicit PhotonIntegrator(const Params& params);
-  Image render(const RayTracer& tracer, const Camera& camera, const RenderOptions& options) override;
+  Image render(const RayTracer& tracer, const Camera& camera,
+               const RenderOptions& options) override;
 
   enum class ShadowMode { kOff, kSeed, kSkip };
 

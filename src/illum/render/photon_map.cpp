@@ -23,9 +23,9 @@ struct Item {
 // levels but the last are full and the last fills from the left.
 size_t left_subtree_size(size_t n) {
   if (n <= 1) return 0;
-  const int h = std::bit_width(n) - 1;           // 2^h ≤ n < 2^(h+1): h full levels above the last
-  const size_t full = (size_t{1} << h) - 1;      // nodes in the full levels
-  const size_t last = n - full;                  // nodes on the last level
+  const int h = std::bit_width(n) - 1;       // 2^h ≤ n < 2^(h+1): h full levels above the last
+  const size_t full = (size_t{1} << h) - 1;  // nodes in the full levels
+  const size_t last = n - full;              // nodes on the last level
   const size_t half_last = size_t{1} << (h - 1);  // last-level capacity of the left subtree
   return (full - 1) / 2 + std::min(last, half_last);
 }

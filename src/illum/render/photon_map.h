@@ -22,8 +22,8 @@ namespace illum {
 
 struct Photon {
   vec3 position{0.0f};
-  vec3 wi{0.0f, 0.0f, 1.0f};  // unit direction towards where the photon came from
-  Color power{0.0f};          // flux in W per channel; negative for shadow photons
+  vec3 wi{0.0f, 0.0f, 1.0f};      // unit direction towards where the photon came from
+  Color power{0.0f};              // flux in W per channel; negative for shadow photons
   vec3 normal{0.0f, 0.0f, 1.0f};  // geometric normal of the surface it was stored on
 };
 
@@ -73,7 +73,7 @@ PhotonFilter parse_photon_filter(const std::string& name);  // "none" | "cone" |
 
 struct FilterSettings {
   PhotonFilter type = PhotonFilter::kCone;
-  float cone_k = 1.1f;        // Jensen's cone constant k ≥ 1: w = 1 − d/(k·r)
+  float cone_k = 1.1f;         // Jensen's cone constant k ≥ 1: w = 1 − d/(k·r)
   float gauss_alpha = 0.918f;  // Jensen's Gaussian constants (Pavicic 1990)
   float gauss_beta = 1.953f;
 };

@@ -20,7 +20,8 @@ Color photon_direct_lighting(const RayTracer& tracer, const LightSampler& lights
     // Stop just short of the light point, measured from the offset origin: the emitter's
     // own geometry must not occlude it (the offset along the normal moves the origin
     // toward a light the surface faces, so `distance` itself would overshoot).
-    if (std::isfinite(ls->distance)) shadow.tmax = glm::length(ls->p - shadow.origin) * (1.0f - 1e-3f);
+    if (std::isfinite(ls->distance))
+      shadow.tmax = glm::length(ls->p - shadow.origin) * (1.0f - 1e-3f);
     if (tracer.occluded(shadow)) return Color(0.0f);
   }
   const Color c = f * ls->li * (std::abs(glm::dot(ls->wi, si.ns)) / (ls->pdf * pmf));

@@ -59,7 +59,9 @@ PhotonMaps build_photon_maps(const RayTracer& tracer, const LightSampler& lights
                 if (with_shadow && ev.depth == 0) sink.push_back({to_photon(ev, scale), 1});
                 return true;
               },
-              [&](const PhotonEvent& ev) { sink.push_back({to_photon(ev, scale), 1}); });
+              [&](const PhotonEvent& ev) {
+                sink.push_back({to_photon(ev, scale), 1});
+              });
         });
     for (const TaggedPhoton& t : all) (t.map == 0 ? global : shadow).push_back(t.photon);
     maps.global_emitted = settings.global_photons;

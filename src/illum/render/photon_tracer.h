@@ -56,7 +56,7 @@ void trace_photon_path(const RayTracer& tracer, const LightEmission& emission, R
                        const PhotonPathSettings& settings, Store&& store, Shadow&& shadow);
 
 struct PhotonMapSettings {
-  int64_t global_photons = 200000;  // photons emitted for the global map (0: none)
+  int64_t global_photons = 200000;   // photons emitted for the global map (0: none)
   int64_t caustic_photons = 200000;  // photons emitted for the caustic map (0: none)
   PhotonPathSettings path;
   uint64_t seed = 0;

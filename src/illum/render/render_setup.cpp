@@ -17,8 +17,7 @@ void validate_render_options(const RenderOptions& o) {
   if (o.threads < 0)
     throw Error(fmt::format("--threads {} must be 0 (all cores) or more", o.threads));
   if (!std::isfinite(o.time_budget_s) || o.time_budget_s < 0.0)
-    throw Error(
-        fmt::format("--time-budget {} must be a finite number of seconds ≥ 0", o.time_budget_s));
+    throw Error(fmt::format("--time {} must be a finite number of seconds ≥ 0", o.time_budget_s));
 }
 
 Camera framing_camera(const Bounds3& bounds, float aspect) {

@@ -8,7 +8,7 @@
 
 namespace illum {
 
-// Throws illum::Error naming the option (--width, --height, --spp, --threads, --time-budget)
+// Throws illum::Error naming the option (--width, --height, --spp, --threads, --time)
 // when a value is out of range.
 void validate_render_options(const RenderOptions& options);
 

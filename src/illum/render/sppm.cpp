@@ -177,7 +177,8 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
         for (int x = tile.x0; x < tile.x1; ++x) {
           Pixel& px = pixels[static_cast<size_t>(y) * width + x];
           px.valid = false;
-          SobolSampler sampler(hash_mix(options.seed, static_cast<uint64_t>(x), static_cast<uint64_t>(y)));
+          SobolSampler sampler(
+              hash_mix(options.seed, static_cast<uint64_t>(x), static_cast<uint64_t>(y)));
           sampler.start_sample(static_cast<uint32_t>(it));
           const vec2 jitter = sampler.next_2d();
           Ray ray = camera.generate_ray(static_cast<float>(x) + jitter.x,
@@ -186,7 +187,8 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
           for (int depth = 0; depth <= max_depth; ++depth) {
             Hit hit;
             if (!tracer.intersect(ray, &hit)) {
-              if (lights.environment_light() >= 0) L += beta * lights.environment_radiance(ray.direction);
+              if (lights.environment_light() >= 0)
+                L += beta * lights.environment_radiance(ray.direction);
               break;
             }
             const SurfaceInteraction si = tracer.interaction(ray, hit);
@@ -195,7 +197,8 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
             const vec3 wo = -ray.direction;
             if (!bsdf.is_delta()) {
               const float u_light = sampler.next_1d();
-              L += beta * photon_direct_lighting(tracer, lights, si, bsdf, wo, u_light, sampler.next_2d());
+              L += beta *
+                   photon_direct_lighting(tracer, lights, si, bsdf, wo, u_light, sampler.next_2d());
               px.valid = true;
               px.p = si.p;
               px.wo = wo;
@@ -204,7 +207,8 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
               px.bsdf = bsdf;
               break;
             }
-            const std::optional<BsdfSample> s = bsdf.sample(wo, sampler.next_1d(), sampler.next_2d());
+            const std::optional<BsdfSample> s =
+                bsdf.sample(wo, sampler.next_1d(), sampler.next_2d());
             if (!s || is_black(s->weight)) break;
             beta *= s->weight;
             ray = Ray{offset_ray_origin(si.p, si.ng, s->wi), s->wi};

@@ -24,7 +24,8 @@ namespace illum {
 class SppmIntegrator final : public Integrator {
  public:
   explicit SppmIntegrator(const Params& params);
-  Image render(const RayTracer& tracer, const Camera& camera, const RenderOptions& options) override;
+  Image render(const RayTracer& tracer, const Camera& camera,
+               const RenderOptions& options) override;
 
   // Statistics of the last render (benchmarks and tests).
   struct Stats {

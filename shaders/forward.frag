@@ -1,0 +1,33 @@
+#version 450
+#include "lighting.glsl"
+
+layout(location = 0) in vec3 in_world;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec4 in_tangent;
+layout(location = 3) in vec4 in_uv;
+layout(location = 4) in vec3 in_prt;
+
+layout(location = 0) out vec4 out_color;
+
+void main() {
+  vec3 v = normalize(frame.camera_pos.xyz - in_world);
+  vec3 n = normalize(in_normal);
+  bool front = dot(n, v) >= 0.0;  // two-sided surfaces, like the offline renderers
+  Surface s = load_surface(push.material, in_world, n, in_tangent, in_uv, front);
+  // push.pad: 0 = everything; 1 = emission + ambient only (depth pass of the stencil-shadow
+  // technique); 2 = only light push.light_index, no shadow-map lookup (stencil masks it).
+  int mode = push.pad;
+  vec3 color = mode == 2 ? vec3(0.0) : s.emission + ambient_term(s);
+  int first = mode == 2 ? push.light_index : frame.options.x >= 0 ? frame.options.x : 0;
+  int last = mode == 2 ? push.light_index + 1
+           : mode == 1 ? 0
+           : frame.options.x >= 0 ? frame.options.x + 1 : frame.counts.x;
+  for (int i = first; i < last; ++i) {
+    vec3 radiance, l;
+    if (!light_contribution(i, s, v, radiance, l)) continue;
+    color += radiance * (mode == 2 ? 1.0 : cube_shadow(i, s.p, s.ng, gl_FragCoord.xy));
+  }
+  // PRT: the transfer carries shadowing and the cosine; relit by the lights' SH this frame.
+  if (frame.options.z != 0 && mode == 0) color = s.emission + ambient_term(s) + s.albedo / kPi * max(in_prt, 0.0);
+  out_color = vec4(color, 1.0);
+}

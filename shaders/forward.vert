@@ -1,0 +1,30 @@
+#version 450
+#include "common.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec4 in_tangent;
+layout(location = 3) in vec2 in_uv0;
+layout(location = 4) in vec2 in_uv1;
+
+layout(location = 0) out vec3 out_world;
+layout(location = 1) out vec3 out_normal;
+layout(location = 2) out vec4 out_tangent;
+layout(location = 3) out vec4 out_uv;
+layout(location = 4) out vec3 out_prt;  // Σ transfer · light SH (RGB), when PRT is on
+
+void main() {
+  vec4 world = push.model * vec4(in_position, 1.0);
+  mat3 normal_matrix = transpose(inverse(mat3(push.model)));
+  out_world = world.xyz;
+  out_normal = normal_matrix * in_normal;
+  out_tangent = vec4(mat3(push.model) * in_tangent.xyz, in_tangent.w);
+  out_uv = vec4(in_uv0, in_uv1);
+  out_prt = vec3(0.0);
+  if (frame.options.z != 0) {
+    vec4 t = prt_transfer[gl_VertexIndex];
+    out_prt = t.x * frame.prt_light[0].rgb + t.y * frame.prt_light[1].rgb + t.z * frame.prt_light[2].rgb +
+              t.w * frame.prt_light[3].rgb;
+  }
+  gl_Position = frame.view_proj * world;
+}

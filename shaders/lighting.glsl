@@ -1,0 +1,131 @@
+// Per-pixel lighting of S002 §4.1 (ALGORITHMS.md item 22): ambient (light-map × N_z or a
+// constant), emission, and per light Phong diffuse + specular with attenuation
+// max(1 − (d/r)², 0) and culling beyond r; Half-Lambert (0.5·N·L + 0.5)² as an option.
+// Radiometry follows the scene model so the image matches the offline renderers: a point
+// light of intensity I gives irradiance I·cosθ/d² and the BRDF is the material's.
+#ifndef ILLUM_LIGHTING_GLSL
+#define ILLUM_LIGHTING_GLSL
+#include "common.glsl"
+#include "shadows.glsl"
+
+struct Surface {
+  vec3 p;
+  vec3 n;        // shading normal (normal-mapped), unit
+  vec3 ng;       // geometric normal, unit, facing the viewer
+  vec3 albedo;
+  vec3 specular;
+  float exponent;
+  int type;      // MaterialType
+  vec3 emission;
+  float n_z;     // tangent-space z of the normal map (1 without one)
+  vec3 n_ts;     // tangent-space shading normal ((0,0,1) without a normal map)
+  vec2 uv1;
+};
+
+Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4 uv, bool front) {
+  Material m = materials[material_index];
+  Surface s;
+  s.p = p;
+  s.ng = normalize(front ? normal : -normal);
+  s.albedo = m.albedo.rgb;
+  if (m.textures.x >= 0) s.albedo *= texture(albedo_map, uv.xy).rgb;
+  s.specular = m.specular.rgb;
+  if (m.textures.w >= 0) s.specular *= texture(specular_map, uv.xy).rgb;
+  s.exponent = m.specular.w;
+  s.type = m.info.x;
+  s.emission = m.emission.rgb;
+  if (m.textures.z >= 0) s.emission *= texture(emission_map, uv.xy).rgb;
+  s.n = s.ng;
+  s.n_z = 1.0;
+  s.n_ts = vec3(0.0, 0.0, 1.0);
+  if (m.textures.y >= 0 && dot(tangent.xyz, tangent.xyz) > 0.0) {
+    vec3 t = normalize(tangent.xyz - s.ng * dot(s.ng, tangent.xyz));
+    vec3 b = cross(s.ng, t) * tangent.w;
+    vec3 tn = texture(normal_map, uv.xy).xyz * 2.0 - 1.0;
+    tn.xy *= m.emission.w;
+    tn = normalize(tn);
+    s.n_z = max(tn.z, 0.0);
+    s.n_ts = tn;
+    s.n = normalize(t * tn.x + b * tn.y + s.ng * tn.z);
+  }
+  s.uv1 = uv.zw;
+  return s;
+}
+
+// The material's BRDF times π-free factors: f(l, v) for Lambert / Phong / Blinn.
+vec3 brdf(Surface s, vec3 l, vec3 v) {
+  vec3 f = s.albedo / kPi;
+  if (s.type == 1) {  // Phong, energy-normalized
+    vec3 r = reflect(-l, s.n);
+    f += s.specular * (s.exponent + 2.0) / (2.0 * kPi) * pow(max(dot(r, v), 0.0), s.exponent);
+  } else if (s.type == 2) {  // Blinn
+    vec3 h = normalize(l + v);
+    f += s.specular * (s.exponent + 8.0) / (8.0 * kPi) * pow(max(dot(h, s.n), 0.0), s.exponent);
+  }
+  return f;
+}
+
+// Irradiance-times-BRDF of one light at the surface, before shadowing; returns false when
+// the light is culled (outside its radius or spot cone, or behind the surface).
+bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l) {
+  Light light = lights[i];
+  int type = int(light.color_type.w);
+  float atten = 1.0;
+  if (type == kLightDirectional) {
+    l = -light.direction_cos.xyz;
+  } else {
+    vec3 to = light.position_range.xyz - s.p;
+    float d2 = dot(to, to);
+    float r = light.position_range.w;
+    if (r > 0.0 && d2 >= r * r) return false;  // radius culling
+    l = to * inversesqrt(d2);
+    atten = 1.0 / d2;
+    if (r > 0.0) atten *= max(1.0 - d2 / (r * r), 0.0);
+    if (type == kLightSpot && dot(-l, light.direction_cos.xyz) < light.direction_cos.w) return false;
+  }
+  float ndl = dot(s.n, l);
+  float cos_term = frame.counts.y != 0 ? pow(0.5 * ndl + 0.5, 2.0) : max(ndl, 0.0);
+  if (cos_term <= 0.0 || dot(s.ng, l) <= 0.0 && frame.counts.y == 0) return false;
+  radiance = brdf(s, l, v) * light.color_type.rgb * atten * cos_term;
+  return true;
+}
+
+// Ambient: a constant, or the light-map at uv1 (× frame.ambient.w). Plain light-maps are
+// scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
+// weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (basis
+// 0.282095, 0.488603·(y, z, x)) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
+vec3 ambient_term(Surface s) {
+  if (push.view_index > 0) {  // a probed (dynamic) object: ambient cube along the normal
+    int base = 6 * (push.view_index - 1);
+    vec3 n2 = s.n * s.n;
+    vec3 a = n2.x * ambient_cubes[base + (s.n.x >= 0.0 ? 0 : 1)].rgb +
+             n2.y * ambient_cubes[base + (s.n.y >= 0.0 ? 2 : 3)].rgb +
+             n2.z * ambient_cubes[base + (s.n.z >= 0.0 ? 4 : 5)].rgb;
+    return s.albedo * a;
+  }
+  int kind = frame.options.y;
+  if (kind == 0) return s.albedo * frame.ambient.rgb;
+  float k = frame.ambient.w;
+  vec3 uv = vec3(s.uv1, 0.0);
+  if (kind == 1) return s.albedo * k * texture(lightmap, uv).rgb * s.n_z;
+  vec3 n = s.n_ts;
+  if (kind == 2) {
+    const vec3 b0 = vec3(0.816496581, 0.0, 0.577350269);
+    const vec3 b1 = vec3(-0.408248290, 0.707106781, 0.577350269);
+    const vec3 b2 = vec3(-0.408248290, -0.707106781, 0.577350269);
+    vec3 w = max(vec3(dot(n, b0), dot(n, b1), dot(n, b2)), 0.0);
+    w *= w;
+    w /= max(w.x + w.y + w.z, 1e-6);
+    vec3 l = w.x * texture(lightmap, vec3(s.uv1, 0.0)).rgb + w.y * texture(lightmap, vec3(s.uv1, 1.0)).rgb +
+             w.z * texture(lightmap, vec3(s.uv1, 2.0)).rgb;
+    return s.albedo * k * l;
+  }
+  vec3 c0 = texture(lightmap, vec3(s.uv1, 0.0)).rgb;
+  vec3 c1 = texture(lightmap, vec3(s.uv1, 1.0)).rgb;  // y
+  vec3 c2 = texture(lightmap, vec3(s.uv1, 2.0)).rgb;  // z
+  vec3 c3 = texture(lightmap, vec3(s.uv1, 3.0)).rgb;  // x
+  vec3 e = 0.282095 * c0 + (2.0 / 3.0) * 0.488603 * (c1 * n.y + c2 * n.z + c3 * n.x);
+  return s.albedo * k * max(e, 0.0);
+}
+
+#endif

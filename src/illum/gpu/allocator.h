@@ -1,0 +1,75 @@
+// Device-memory sub-allocation (VMA is not packaged). Per memory type, memory comes in
+// blocks of kBlockSize, each managed by a sorted free list with first fit and merging of
+// neighbours on free; requests larger than a quarter block get a dedicated allocation.
+// Host-visible blocks stay persistently mapped.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace illum::gpu {
+
+struct Allocation {
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0;
+  VkDeviceSize size = 0;
+  void* mapped = nullptr;  // host pointer at `offset` for host-visible memory, else null
+  uint32_t memory_type = 0;
+  int block = -1;  // index of the owning block; −1 = dedicated
+  bool valid() const { return memory != VK_NULL_HANDLE; }
+};
+
+struct AllocatorStats {
+  size_t blocks = 0;
+  size_t dedicated = 0;
+  VkDeviceSize reserved_bytes = 0;  // device memory held
+  VkDeviceSize used_bytes = 0;      // handed out to resources
+};
+
+class Allocator {
+ public:
+  static constexpr VkDeviceSize kBlockSize = VkDeviceSize(64) << 20;
+
+  Allocator(VkPhysicalDevice physical, VkDevice device);
+  ~Allocator();
+  Allocator(const Allocator&) = delete;
+  Allocator& operator=(const Allocator&) = delete;
+
+  // `required` must hold, `preferred` is tried first (e.g. DEVICE_LOCAL). Throws
+  // illum::Error when no memory type fits or the device is out of memory.
+  Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
+                      VkMemoryPropertyFlags preferred = 0);
+  void free(Allocation& allocation);
+
+  AllocatorStats stats() const;
+  bool is_host_coherent(uint32_t memory_type) const;
+
+ private:
+  struct Range {
+    VkDeviceSize offset, size;
+  };
+  struct Block {
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    uint32_t memory_type = 0;
+    void* mapped = nullptr;
+    std::map<VkDeviceSize, VkDeviceSize> free;  // offset → size, non-adjacent ranges
+  };
+  int find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const;
+  VkDeviceMemory allocate_memory(uint32_t type, VkDeviceSize size, void** mapped);
+
+  VkPhysicalDevice physical_;
+  VkDevice device_;
+  VkPhysicalDeviceMemoryProperties properties_{};
+  VkDeviceSize granularity_ = 1;
+  mutable std::mutex mutex_;
+  std::vector<Block> blocks_;
+  size_t dedicated_ = 0;
+  VkDeviceSize dedicated_bytes_ = 0, used_bytes_ = 0;
+};
+
+}  // namespace illum::gpu

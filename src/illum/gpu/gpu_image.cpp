@@ -1,0 +1,383 @@
+#include "illum/gpu/gpu_image.h"
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+
+#include <glm/gtc/packing.hpp>
+
+#include "illum/core/color.h"
+#include "illum/gpu/buffer.h"
+#include "illum/gpu/vk_check.h"
+
+namespace illum::gpu {
+
+bool is_depth_format(VkFormat f) {
+  return f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D32_SFLOAT_S8_UINT ||
+         f == VK_FORMAT_D24_UNORM_S8_UINT || f == VK_FORMAT_D16_UNORM;
+}
+
+bool has_stencil(VkFormat f) {
+  return f == VK_FORMAT_D32_SFLOAT_S8_UINT || f == VK_FORMAT_D24_UNORM_S8_UINT;
+}
+
+uint32_t format_bytes(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_R8G8B8A8_UNORM:
+    case VK_FORMAT_R8G8B8A8_SRGB:
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_D32_SFLOAT:
+      return 4;
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+    case VK_FORMAT_R32G32_SFLOAT:
+      return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+      return 16;
+    case VK_FORMAT_R8_UINT:
+    case VK_FORMAT_S8_UINT:
+      return 1;
+    default:
+      throw InternalError("format_bytes: unsupported format");
+  }
+}
+
+namespace {
+int format_channels(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_S8_UINT:
+      return 1;
+    case VK_FORMAT_R32G32_SFLOAT:
+      return 2;
+    default:
+      return 4;
+  }
+}
+}  // namespace
+
+GpuImage::GpuImage(Context& context, const ImageDesc& desc) : context_(&context), desc_(desc) {
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.flags = desc.cube ? VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT : 0;
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = desc.format;
+  info.extent = {desc.width, desc.height, 1};
+  info.mipLevels = desc.mips;
+  info.arrayLayers = desc.layers;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = desc.usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  ILLUM_VK(vkCreateImage(context.device(), &info, nullptr, &image_));
+  try {
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(context.device(), image_, &req);
+    allocation_ = context.allocator().allocate(req, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    ILLUM_VK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = image_;
+    view.viewType =
+        desc.cube ? (desc.cube_array ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE)
+        : desc.layers > 1 || desc.array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY
+                                        : VK_IMAGE_VIEW_TYPE_2D;
+    view.format = desc.format;
+    // Sampled views of depth-stencil images see depth only.
+    view.subresourceRange = {
+        is_depth_format(desc.format) ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : aspect(), 0,
+        desc.mips, 0, desc.layers};
+    ILLUM_VK(vkCreateImageView(context.device(), &view, nullptr, &view_));
+    // Depth-stencil images get per-layer views with both aspects for attachments; their
+    // default view (sampling) sees depth only.
+    if (desc.layers > 1 || has_stencil(desc.format)) {
+      for (uint32_t l = 0; l < desc.layers; ++l) {
+        view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+        view.subresourceRange = {aspect(), 0, 1, l, 1};
+        VkImageView v = VK_NULL_HANDLE;
+        ILLUM_VK(vkCreateImageView(context.device(), &view, nullptr, &v));
+        layer_views_.push_back(v);
+      }
+    } else {
+      layer_views_.push_back(view_);
+    }
+  } catch (...) {
+    reset();
+    throw;
+  }
+}
+
+GpuImage& GpuImage::operator=(GpuImage&& o) noexcept {
+  if (this != &o) {
+    reset();
+    context_ = std::exchange(o.context_, nullptr);
+    image_ = std::exchange(o.image_, VK_NULL_HANDLE);
+    view_ = std::exchange(o.view_, VK_NULL_HANDLE);
+    layer_views_ = std::move(o.layer_views_);
+    o.layer_views_.clear();
+    allocation_ = std::exchange(o.allocation_, Allocation{});
+    desc_ = o.desc_;
+    layout_ = std::exchange(o.layout_, VK_IMAGE_LAYOUT_UNDEFINED);
+    stage_ = o.stage_;
+    access_ = o.access_;
+  }
+  return *this;
+}
+
+void GpuImage::reset() {
+  if (!context_) return;
+  VkDevice d = context_->device();
+  for (VkImageView v : layer_views_)
+    if (v != view_) vkDestroyImageView(d, v, nullptr);
+  layer_views_.clear();
+  if (view_) vkDestroyImageView(d, view_, nullptr);
+  if (image_) vkDestroyImage(d, image_, nullptr);
+  context_->allocator().free(allocation_);
+  view_ = VK_NULL_HANDLE;
+  image_ = VK_NULL_HANDLE;
+  context_ = nullptr;
+  layout_ = VK_IMAGE_LAYOUT_UNDEFINED;
+}
+
+VkImageAspectFlags GpuImage::aspect() const {
+  if (!is_depth_format(desc_.format)) return VK_IMAGE_ASPECT_COLOR_BIT;
+  return has_stencil(desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT
+                                   : VK_IMAGE_ASPECT_DEPTH_BIT;
+}
+
+void GpuImage::transition(VkCommandBuffer cmd, VkImageLayout layout, VkPipelineStageFlags2 stage,
+                          VkAccessFlags2 access) {
+  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  b.srcStageMask =
+      stage_ == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT : stage_;
+  b.srcAccessMask = access_;
+  b.dstStageMask = stage;
+  b.dstAccessMask = access;
+  b.oldLayout = layout_;
+  b.newLayout = layout;
+  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image_;
+  b.subresourceRange = {aspect(), 0, desc_.mips, 0, desc_.layers};
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = 1;
+  dep.pImageMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &dep);
+  layout_ = layout;
+  stage_ = stage;
+  access_ = access;
+}
+
+void GpuImage::upload(const Image& image, uint32_t layer) {
+  ILLUM_CHECK(static_cast<uint32_t>(image.width()) == desc_.width &&
+                  static_cast<uint32_t>(image.height()) == desc_.height,
+              "upload size mismatch");
+  const VkFormat f = desc_.format;
+  const size_t texels = image.pixel_count();
+  std::vector<uint8_t> bytes(texels * format_bytes(f));
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const size_t i = static_cast<size_t>(y) * image.width() + x;
+      const float* p = image.pixel(x, y);
+      float rgba[4] = {0, 0, 0, 1};
+      const int c = image.channels();
+      if (c == 1) {
+        rgba[0] = rgba[1] = rgba[2] = p[0];
+      } else {
+        for (int k = 0; k < std::min(c, 4); ++k) rgba[k] = p[k];
+      }
+      switch (f) {
+        case VK_FORMAT_R8G8B8A8_UNORM:
+          for (int k = 0; k < 4; ++k)
+            bytes[i * 4 + k] =
+                static_cast<uint8_t>(std::clamp(rgba[k], 0.0f, 1.0f) * 255.0f + 0.5f);
+          break;
+        case VK_FORMAT_R8G8B8A8_SRGB:
+          for (int k = 0; k < 4; ++k) {
+            const float v = k < 3 ? srgb_encode(rgba[k]) : std::clamp(rgba[k], 0.0f, 1.0f);
+            bytes[i * 4 + k] = static_cast<uint8_t>(v * 255.0f + 0.5f);
+          }
+          break;
+        case VK_FORMAT_R32_SFLOAT:
+          std::memcpy(&bytes[i * 4], rgba, 4);
+          break;
+        case VK_FORMAT_R32G32_SFLOAT:
+          std::memcpy(&bytes[i * 8], rgba, 8);
+          break;
+        case VK_FORMAT_R32G32B32A32_SFLOAT:
+          std::memcpy(&bytes[i * 16], rgba, 16);
+          break;
+        case VK_FORMAT_R16G16B16A16_SFLOAT: {
+          const uint64_t packed = glm::packHalf4x16(glm::vec4(rgba[0], rgba[1], rgba[2], rgba[3]));
+          std::memcpy(&bytes[i * 8], &packed, 8);
+          break;
+        }
+        default:
+          throw InternalError("GpuImage::upload: unsupported format");
+      }
+    }
+  Buffer staging(*context_, bytes.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::kUpload);
+  staging.write(bytes.data(), bytes.size());
+  context_->immediate([&](VkCommandBuffer cmd) {
+    transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+               VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, layer, 1};
+    copy.imageExtent = {desc_.width, desc_.height, 1};
+    vkCmdCopyBufferToImage(cmd, staging.handle(), image_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                           &copy);
+    // Mips by successive linear blits: each level from the one above.
+    int32_t w = static_cast<int32_t>(desc_.width), h = static_cast<int32_t>(desc_.height);
+    for (uint32_t m = 1; m < desc_.mips; ++m) {
+      VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+      b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+      b.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+      b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+      b.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
+      b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+      b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = image_;
+      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, 1, layer, 1};
+      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+      dep.imageMemoryBarrierCount = 1;
+      dep.pImageMemoryBarriers = &b;
+      vkCmdPipelineBarrier2(cmd, &dep);
+      VkImageBlit blit{};
+      blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, layer, 1};
+      blit.srcOffsets[1] = {w, h, 1};
+      w = std::max(1, w / 2);
+      h = std::max(1, h / 2);
+      blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m, layer, 1};
+      blit.dstOffsets[1] = {w, h, 1};
+      vkCmdBlitImage(cmd, image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image_,
+                     VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
+    }
+    if (desc_.mips > 1) {  // bring the source levels back so the whole image shares a layout
+      VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+      b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+      b.srcAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
+      b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+      b.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+      b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+      b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = image_;
+      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, desc_.mips - 1, layer, 1};
+      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+      dep.imageMemoryBarrierCount = 1;
+      dep.pImageMemoryBarriers = &b;
+      vkCmdPipelineBarrier2(cmd, &dep);
+    }
+    transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+               VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  });
+}
+
+Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask) {
+  if (aspect_mask == 0)
+    aspect_mask =
+        is_depth_format(desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+  VkFormat f = desc_.format;
+  if (aspect_mask == VK_IMAGE_ASPECT_STENCIL_BIT)
+    f = VK_FORMAT_S8_UINT;
+  else if (aspect_mask == VK_IMAGE_ASPECT_DEPTH_BIT && is_depth_format(f)) {
+    ILLUM_CHECK(f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D32_SFLOAT_S8_UINT,
+                "depth readback needs a 32-bit float depth format");
+    f = VK_FORMAT_D32_SFLOAT;
+  }
+  const uint32_t texel = format_bytes(f);
+  const VkDeviceSize bytes = VkDeviceSize(desc_.width) * desc_.height * texel;
+  Buffer staging(*context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::kReadback);
+  const VkImageLayout previous =
+      layout_ == VK_IMAGE_LAYOUT_UNDEFINED ? VK_IMAGE_LAYOUT_GENERAL : layout_;
+  context_->immediate([&](VkCommandBuffer cmd) {
+    transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+               VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {aspect_mask, 0, layer, 1};
+    copy.imageExtent = {desc_.width, desc_.height, 1};
+    vkCmdCopyImageToBuffer(cmd, image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
+                           &copy);
+    transition(cmd, previous, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+               VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    host.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+    host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+    host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &host;
+    vkCmdPipelineBarrier2(cmd, &dep);
+  });
+  std::vector<uint8_t> raw(bytes);
+  staging.read(raw.data(), bytes);
+  const int channels = format_channels(f);
+  Image out(static_cast<int>(desc_.width), static_cast<int>(desc_.height), channels);
+  float* dst = out.data().data();
+  const size_t n = out.pixel_count();
+  for (size_t i = 0; i < n; ++i) {
+    switch (f) {
+      case VK_FORMAT_R8G8B8A8_UNORM:
+      case VK_FORMAT_R8G8B8A8_SRGB:
+        for (int k = 0; k < 4; ++k) dst[i * 4 + k] = raw[i * 4 + k] / 255.0f;
+        break;
+      case VK_FORMAT_R16G16B16A16_SFLOAT: {
+        uint64_t packed;
+        std::memcpy(&packed, &raw[i * 8], 8);
+        const glm::vec4 v = glm::unpackHalf4x16(packed);
+        for (int k = 0; k < 4; ++k) dst[i * 4 + k] = v[k];
+        break;
+      }
+      case VK_FORMAT_S8_UINT:
+        dst[i] = raw[i];
+        break;
+      default:
+        std::memcpy(&dst[i * channels], &raw[i * texel], texel);
+        break;
+    }
+  }
+  return out;
+}
+
+Sampler::Sampler(Context& context, VkFilter filter, VkSamplerAddressMode address, bool mipmaps,
+                 bool compare)
+    : context_(&context) {
+  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  info.magFilter = info.minFilter = filter;
+  info.mipmapMode =
+      filter == VK_FILTER_LINEAR ? VK_SAMPLER_MIPMAP_MODE_LINEAR : VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  info.addressModeU = info.addressModeV = info.addressModeW = address;
+  info.maxLod = mipmaps ? VK_LOD_CLAMP_NONE : 0.0f;
+  info.compareEnable = compare ? VK_TRUE : VK_FALSE;
+  info.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+  info.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+  ILLUM_VK(vkCreateSampler(context.device(), &info, nullptr, &sampler_));
+}
+
+Sampler& Sampler::operator=(Sampler&& o) noexcept {
+  if (this != &o) {
+    reset();
+    context_ = std::exchange(o.context_, nullptr);
+    sampler_ = std::exchange(o.sampler_, VK_NULL_HANDLE);
+  }
+  return *this;
+}
+
+void Sampler::reset() {
+  if (context_ && sampler_) vkDestroySampler(context_->device(), sampler_, nullptr);
+  sampler_ = VK_NULL_HANDLE;
+  context_ = nullptr;
+}
+
+VkFormat pick_depth_stencil_format(const Context& context) {
+  for (VkFormat f : {VK_FORMAT_D32_SFLOAT_S8_UINT, VK_FORMAT_D24_UNORM_S8_UINT}) {
+    VkFormatProperties props;
+    vkGetPhysicalDeviceFormatProperties(context.physical(), f, &props);
+    if (props.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT) return f;
+  }
+  throw Error("the Vulkan device has no depth-stencil attachment format");
+}
+
+}  // namespace illum::gpu

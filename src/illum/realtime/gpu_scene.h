@@ -1,0 +1,53 @@
+// The scene model on the GPU: one vertex and one index buffer for all meshes (draws use
+// firstIndex/vertexOffset), materials and lights as storage buffers, textures as a bindless
+// array (sRGB colour textures as R8G8B8A8_SRGB with mips).
+#pragma once
+
+#include <vector>
+
+#include "illum/gpu/buffer.h"
+#include "illum/gpu/gpu_image.h"
+#include "illum/realtime/gpu_types.h"
+#include "illum/scene/scene.h"
+
+namespace illum::realtime {
+
+struct MeshRange {
+  uint32_t first_index = 0;
+  uint32_t index_count = 0;
+  int32_t vertex_offset = 0;
+};
+
+struct DrawItem {
+  uint32_t mesh = 0;
+  int material = 0;
+  glm::mat4 transform{1.0f};
+};
+
+class GpuScene {
+ public:
+  GpuScene(gpu::Context& context, const Scene& scene);
+
+  const Scene& scene() const { return scene_; }
+  const gpu::Buffer& vertices() const { return vertices_; }
+  const gpu::Buffer& indices() const { return indices_; }
+  const gpu::Buffer& materials() const { return materials_; }
+  const std::vector<MeshRange>& meshes() const { return meshes_; }
+  const std::vector<DrawItem>& draws() const { return draws_; }
+  const std::vector<int>& draw_instances() const { return draw_instances_; }  // per draw
+  const std::vector<gpu::GpuImage>& textures() const { return textures_; }
+  Bounds3 bounds() const { return bounds_; }
+  size_t triangle_count() const { return triangles_; }
+
+ private:
+  const Scene& scene_;
+  gpu::Buffer vertices_, indices_, materials_;
+  std::vector<MeshRange> meshes_;
+  std::vector<DrawItem> draws_;
+  std::vector<int> draw_instances_;
+  std::vector<gpu::GpuImage> textures_;
+  Bounds3 bounds_;
+  size_t triangles_ = 0;
+};
+
+}  // namespace illum::realtime

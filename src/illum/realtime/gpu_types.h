@@ -1,0 +1,63 @@
+// CPU mirrors of the structures in shaders/common.glsl (vec4-aligned, std140/std430 alike).
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+namespace illum::realtime {
+
+enum class ShadowMode : int { kNone = 0, kMap = 1, kVsm = 2, kVolume = 3 };
+
+struct GpuMaterial {
+  glm::vec4 albedo;     // rgb, opacity
+  glm::vec4 specular;   // rgb ks, exponent
+  glm::vec4 emission;   // rgb, normal_scale
+  glm::ivec4 textures;  // albedo, normal, emission, specular map
+  glm::ivec4 info;      // x: MaterialType
+};
+
+struct GpuLight {
+  glm::vec4 position_range;
+  glm::vec4 direction_cos;
+  glm::vec4 color_type;
+  glm::ivec4 shadow;        // x: cube slot, y: first view, z: view count
+  glm::vec4 shadow_params;  // x: far distance
+};
+
+struct FrameUniforms {
+  glm::mat4 view;
+  glm::mat4 proj;
+  glm::mat4 view_proj;
+  glm::mat4 inv_view_proj;
+  glm::vec4 camera_pos;
+  glm::vec4 ambient;
+  glm::ivec4 counts;        // lights, half-Lambert, shadow mode, PCF taps
+  glm::vec4 shadow_config;  // bias, PCF radius (texels), VSM τ, min variance
+  glm::vec4 cascade_splits;
+  glm::ivec4 options;  // single light (−1 all), has light-map, output mode
+  glm::vec4 extent;
+  glm::vec4 prt_light[4];
+};
+
+struct PushConstants {
+  glm::mat4 model;
+  int32_t material = 0;
+  int32_t view_index = 0;
+  int32_t light_index = 0;
+  int32_t pad = 0;
+};
+static_assert(sizeof(PushConstants) == 80);
+
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec4 tangent;
+  glm::vec2 uv0;
+  glm::vec2 uv1;
+};
+static_assert(sizeof(Vertex) == 56);
+
+inline constexpr int kMaxShadowCubes = 8;
+
+}  // namespace illum::realtime

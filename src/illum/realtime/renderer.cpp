@@ -1,0 +1,1465 @@
+#include "illum/realtime/renderer.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstring>
+
+#include "illum/core/color.h"
+#include "illum/gpu/buffer.h"
+#include "illum/gpu/descriptors.h"
+#include "illum/gpu/gpu_image.h"
+#include "illum/gpu/pipeline.h"
+#include "illum/gpu/vk_check.h"
+#include "illum/realtime/frame_graph.h"
+#include "illum/realtime/gpu_scene.h"
+#include "illum/realtime/shadow_volume_builder.h"
+
+namespace illum::realtime {
+
+using gpu::GpuImage;
+
+ToneMapOp tone_map_op_from_string(const std::string& name) {
+  if (name == "clamp") return ToneMapOp::kClamp;
+  if (name == "reinhard") return ToneMapOp::kReinhard;
+  if (name == "aces") return ToneMapOp::kAces;
+  if (name == "agx") return ToneMapOp::kAgx;
+  throw Error(fmt::format("unknown tone mapper '{}' (known: clamp, reinhard, aces, agx)", name));
+}
+
+ShadowMode shadow_mode_from_string(const std::string& name) {
+  if (name == "none") return ShadowMode::kNone;
+  if (name == "map") return ShadowMode::kMap;
+  if (name == "vsm") return ShadowMode::kVsm;
+  if (name == "volume") return ShadowMode::kVolume;
+  throw Error(fmt::format("unknown shadow technique '{}' (known: none, map, vsm, volume)", name));
+}
+
+Technique technique_from_string(const std::string& name) {
+  if (name == "forward") return Technique::kForward;
+  if (name == "deferred") return Technique::kDeferred;
+  throw Error(fmt::format("unknown technique '{}' (known: forward, deferred)", name));
+}
+
+RendererOptions RendererOptions::from_params(const Params& p) {
+  RendererOptions o;
+  o.width = p.get_int_in("width", o.width, 1, 16384);
+  o.height = p.get_int_in("height", o.height, 1, 16384);
+  if (p.has("technique")) o.technique = technique_from_string(p.get<std::string>("technique"));
+  if (p.has("shadows")) o.shadows = shadow_mode_from_string(p.get<std::string>("shadows"));
+  o.shadow_resolution = p.get_int_in("shadow_resolution", o.shadow_resolution, 16, 8192);
+  o.shadow_update_period = p.get_int_in("shadow_update_period", o.shadow_update_period, 0, 1000000);
+  o.pcf_taps = p.get_int_in("pcf_taps", o.pcf_taps, 1, 64);
+  o.pcf_radius = p.get_float_in("pcf_radius", o.pcf_radius, 0.0f, 64.0f);
+  o.shadow_bias = p.get_float_in("shadow_bias", o.shadow_bias, 0.0f, 1.0f);
+  o.vsm_tau = p.get_float_in("vsm_tau", o.vsm_tau, 0.0f, 0.99f);
+  o.volume_back_faces = p.get<bool>("volume_back_faces", o.volume_back_faces);
+  o.half_lambert = p.get<bool>("half_lambert", o.half_lambert);
+  if (p.has("ambient")) o.ambient = p.get<vec3>("ambient");
+  if (p.has("tone_mapper"))
+    o.tone_mapper = tone_map_op_from_string(p.get<std::string>("tone_mapper"));
+  o.auto_exposure = p.get<bool>("auto_exposure", o.auto_exposure);
+  o.exposure = p.get_float_in("exposure", o.exposure, 0.0f, 1e6f);
+  o.key = p.get_float_in("key", o.key, 1e-4f, 10.0f);
+  o.bloom_strength = p.get_float_in("bloom_strength", o.bloom_strength, 0.0f, 100.0f);
+  o.bloom_threshold = p.get_float_in("bloom_threshold", o.bloom_threshold, 0.0f, 1e6f);
+  return o;
+}
+
+namespace {
+
+constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kLdrFormat = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat kShadowFormat = VK_FORMAT_R32G32_SFLOAT;
+constexpr VkFormat kShadowDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+gpu::VertexInput mesh_vertex_input(bool position_only) {
+  gpu::VertexInput in;
+  in.stride = sizeof(Vertex);
+  in.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)});
+  if (position_only) return in;
+  in.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)});
+  in.attributes.push_back({2, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(Vertex, tangent)});
+  in.attributes.push_back({3, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv0)});
+  in.attributes.push_back({4, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv1)});
+  return in;
+}
+
+void set_viewport(VkCommandBuffer cmd, uint32_t w, uint32_t h) {
+  VkViewport vp{0.0f, 0.0f, static_cast<float>(w), static_cast<float>(h), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {w, h}};
+  vkCmdSetViewport(cmd, 0, 1, &vp);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+}
+
+VkRenderingAttachmentInfo color_attachment(VkImageView view, bool clear,
+                                           VkClearColorValue value = {}) {
+  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  a.imageView = view;
+  a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  a.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  a.clearValue.color = value;
+  return a;
+}
+
+VkRenderingAttachmentInfo depth_attachment(VkImageView view, bool clear) {
+  VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  a.imageView = view;
+  a.imageLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  a.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
+  a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  a.clearValue.depthStencil = {1.0f, 0};
+  return a;
+}
+
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  b.srcStageMask = src_stage;
+  b.srcAccessMask = src_access;
+  b.dstStageMask = dst_stage;
+  b.dstAccessMask = dst_access;
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.memoryBarrierCount = 1;
+  dep.pMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+// Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
+void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
+  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
+  std::vector<vec3> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  for (vec3& v : p) v = glm::normalize(v);
+  const std::vector<uint32_t> f = {0, 11, 5, 0, 5,  1,  0,  1,  7,  0,  7, 10, 0, 10, 11,
+                                   1, 5,  9, 5, 11, 4,  11, 10, 2,  10, 7, 6,  7, 1,  8,
+                                   3, 9,  4, 3, 4,  2,  3,  2,  6,  3,  6, 8,  3, 8,  9,
+                                   4, 9,  5, 2, 4,  11, 6,  2,  10, 8,  6, 7,  9, 8,  1};
+  std::vector<uint32_t> out;
+  auto mid = [&](uint32_t a, uint32_t b) {
+    p.push_back(glm::normalize(p[a] + p[b]));
+    return static_cast<uint32_t>(p.size() - 1);
+  };
+  for (size_t i = 0; i < f.size(); i += 3) {
+    const uint32_t a = f[i], b = f[i + 1], c = f[i + 2];
+    const uint32_t ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+    out.insert(out.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+  }
+  *positions = std::move(p);
+  *indices = std::move(out);
+}
+
+}  // namespace
+
+std::vector<Light> realtime_lights(const Scene& scene) {
+  std::vector<Light> out;
+  const float eps = std::max(scene.bounds().diagonal(), 1e-6f) * 1e-3f;
+  for (const Light& l : scene.lights) {
+    if (l.type != LightType::kArea) {
+      out.push_back(l);
+      continue;
+    }
+    if (l.instance < 0 || static_cast<size_t>(l.instance) >= scene.instances.size()) continue;
+    const Instance& inst = scene.instances[static_cast<size_t>(l.instance)];
+    const Mesh& m = scene.meshes[static_cast<size_t>(inst.mesh)];
+    const Material& mat = scene.materials[static_cast<size_t>(m.material)];
+    float area = 0.0f;
+    vec3 centroid(0.0f), normal(0.0f);
+    for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+      const vec3 a = vec3(inst.transform * vec4(m.positions[m.indices[t]], 1.0f));
+      const vec3 b = vec3(inst.transform * vec4(m.positions[m.indices[t + 1]], 1.0f));
+      const vec3 c = vec3(inst.transform * vec4(m.positions[m.indices[t + 2]], 1.0f));
+      const vec3 n = glm::cross(b - a, c - a);
+      const float ta = 0.5f * glm::length(n);
+      area += ta;
+      centroid += ta * (a + b + c) / 3.0f;
+      normal += n;
+    }
+    if (area <= 0.0f || glm::length(normal) <= 0.0f) continue;
+    Light spot;
+    spot.name = l.name + " (area as spot)";
+    spot.type = LightType::kSpot;
+    spot.direction = glm::normalize(normal);
+    spot.position = centroid / area + spot.direction * eps;
+    spot.cone_half_angle = radians(89.9f);
+    // A one-sided Lambertian emitter has flux Φ = π·L·A; spread over the hemisphere's 2π sr
+    // gives the isotropic-within-the-cone intensity I = L·A/2.
+    spot.intensity = mat.emission * (0.5f * area);
+    spot.range = l.range;
+    out.push_back(spot);
+  }
+  return out;
+}
+
+namespace {
+
+constexpr VkPipelineStageFlags2 kColorStage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+constexpr VkAccessFlags2 kColorAccess =
+    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT;
+constexpr VkPipelineStageFlags2 kDepthStage =
+    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+constexpr VkAccessFlags2 kDepthAccess =
+    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+constexpr VkPipelineStageFlags2 kSampleStage =
+    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+
+}  // namespace
+
+struct Renderer::Impl {
+  gpu::Context& context;
+  RendererOptions options;
+  GpuScene scene;
+  std::vector<Light> lights;
+  uint32_t width, height;
+
+  // Frame resources.
+  GpuImage hdr, ldr, depth, shadow_depth, dummy_cube, dummy_array, dummy_2d, dummy_white;
+  GpuImage shadow_cubes;  // cube-map array, one cube per shadowed light
+  GpuImage cascades;      // 2D array: cascaded shadow maps of one directional light
+  int cascade_light = -1;
+  static constexpr int kCascades = 4;
+  glm::vec4 cascade_half_widths{0.0f};
+  std::vector<int> shadow_lights;  // light index of each cube
+  gpu::Buffer frame_ubo, lights_buffer, shadow_views, luminance;
+  gpu::Sampler linear, nearest, clamp_linear;
+  gpu::DescriptorAllocator descriptors;
+  gpu::DescriptorSetLayout frame_layout, material_layout, tonemap_layout;
+  VkDescriptorSet frame_set = VK_NULL_HANDLE, tonemap_set = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSet> material_sets;
+  gpu::PipelineLayout scene_pipeline_layout, tonemap_pipeline_layout;
+  gpu::Pipeline forward, shadow_cube, luminance_pipe, reduce_pipe, tonemap_pipe;
+  gpu::Pipeline volume_stencil, volume_light;
+  // Deferred path.
+  GpuImage g_albedo, g_normal, g_geometry, g_specular;
+  gpu::DescriptorSetLayout gbuffer_layout;
+  VkDescriptorSet gbuffer_set = VK_NULL_HANDLE;
+  gpu::PipelineLayout deferred_pipeline_layout;
+  gpu::Pipeline gbuffer_pipe, light_stencil_pipe, light_volume_pipe, light_fullscreen_pipe;
+  gpu::Buffer sphere_vertices, sphere_indices;
+  uint32_t sphere_index_count = 0;
+  // Stencil shadow volumes: CPU-built geometry for every light, one host-visible buffer.
+  std::unique_ptr<ShadowVolumeBuilder> volume_builder;
+  gpu::Buffer volume_vertices;
+  std::vector<std::pair<uint32_t, uint32_t>> volume_ranges;  // first vertex, count per light
+  bool volumes_dirty = true;
+  ShadowVolumeStats volume_stats;
+  double silhouette_ms = -1.0;  // CPU build time in this frame (−1: not rebuilt)
+  std::array<glm::mat4, 4> cascade_matrices{glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f),
+                                            glm::mat4(1.0f)};
+  gpu::Pipeline shadow_dir;
+  GpuImage lightmap_image;
+  gpu::Buffer ambient_cubes;  // 6 vec4 per probed draw
+  gpu::Buffer prt_transfer;   // per vertex SH-L1 transfer
+  bool prt = false;
+  std::vector<int> draw_cube;  // per draw item: cube index + 1 (0 = none)
+  Lightmap lightmap_info;
+  // Bloom: half-resolution ping-pong images.
+  GpuImage bloom_a, bloom_b;
+  gpu::DescriptorSetLayout bloom_layout;
+  gpu::PipelineLayout bloom_pipeline_layout;
+  VkDescriptorSet bloom_sets[3] = {VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE};
+  gpu::Pipeline bloom_bright, bloom_blur;
+  VkFormat depth_format;
+  uint32_t tiles_x = 0, tiles_y = 0;
+
+  FrameGraph graph;
+  gpu::GpuTimer timer;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  uint64_t frame_index = 0;
+  std::vector<gpu::PassTime> times;
+
+  Impl(gpu::Context& c, const Scene& s, const RendererOptions& o)
+      : context(c),
+        options(o),
+        scene(c, s),
+        lights(realtime_lights(s)),
+        width(static_cast<uint32_t>(o.width)),
+        height(static_cast<uint32_t>(o.height)),
+        descriptors(c),
+        timer(c) {
+    if (options.technique == Technique::kDeferred && options.shadows == ShadowMode::kVolume)
+      throw Error(
+          "shadows 'volume' work with the forward technique only (deferred: none, map, vsm)");
+    if (options.shadows == ShadowMode::kVolume) {
+      if (!c.depth_clamp())
+        throw Error(
+            fmt::format("shadows 'volume' need depthClamp, which '{}' lacks", c.device_name()));
+      volume_builder = std::make_unique<ShadowVolumeBuilder>(s);
+    }
+    depth_format = gpu::pick_depth_stencil_format(c);
+    create_targets();
+    create_buffers();
+    create_descriptors();
+    create_pipelines();
+    build_graph();
+    VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pi.queueFamilyIndex = c.queue_family();
+    ILLUM_VK(vkCreateCommandPool(c.device(), &pi, nullptr, &pool));
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    ILLUM_VK(vkAllocateCommandBuffers(c.device(), &ai, &cmd));
+    VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    ILLUM_VK(vkCreateFence(c.device(), &fi, nullptr, &fence));
+  }
+
+  ~Impl() {
+    context.wait_idle();
+    if (fence) vkDestroyFence(context.device(), fence, nullptr);
+    if (pool) vkDestroyCommandPool(context.device(), pool, nullptr);
+  }
+
+  void create_targets() {
+    gpu::ImageDesc d;
+    d.width = width;
+    d.height = height;
+    d.format = kHdrFormat;
+    d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+              VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+    hdr = GpuImage(context, d);
+    d.format = kLdrFormat;
+    d.usage =
+        VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    ldr = GpuImage(context, d);
+    d.format = depth_format;
+    d.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+              VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    depth = GpuImage(context, d);
+
+    if (options.technique == Technique::kDeferred) {
+      gpu::ImageDesc g = d;
+      g.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+      g.format = VK_FORMAT_R8G8B8A8_UNORM;
+      g_specular = GpuImage(context, g);
+      // Albedo in fp16: 8 bits would cost dark channels (0.065 red-wall green) several
+      // percent and break agreement with the forward path.
+      g.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+      g_albedo = GpuImage(context, g);
+      g_normal = GpuImage(context, g);
+      g_geometry = GpuImage(context, g);
+      std::vector<vec3> sp;
+      std::vector<uint32_t> si;
+      icosphere(&sp, &si);
+      sphere_vertices = gpu::make_device_buffer(context, sp.data(), sp.size() * sizeof(vec3),
+                                                VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+      sphere_indices = gpu::make_device_buffer(context, si.data(), si.size() * sizeof(uint32_t),
+                                               VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+      sphere_index_count = static_cast<uint32_t>(si.size());
+    }
+    if (options.bloom_strength > 0.0f) {
+      gpu::ImageDesc b;
+      b.width = std::max(1u, width / 2);
+      b.height = std::max(1u, height / 2);
+      b.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+      b.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+      bloom_a = GpuImage(context, b);
+      bloom_b = GpuImage(context, b);
+    }
+    // Dummies keep every descriptor valid when a feature is off.
+    gpu::ImageDesc small;
+    small.format = VK_FORMAT_R32G32_SFLOAT;
+    small.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    small.layers = 6;
+    small.cube = true;
+    small.cube_array = true;
+    dummy_cube = GpuImage(context, small);
+    small.layers = 1;
+    small.cube = false;
+    small.cube_array = false;
+    dummy_2d = GpuImage(context, small);
+    small.array = true;
+    dummy_array = GpuImage(context, small);
+    small.array = false;
+    const Image far_moments(1, 1, 2, 1.0f);
+    for (uint32_t l = 0; l < 6; ++l) dummy_cube.upload(far_moments, l);
+    dummy_2d.upload(Image(1, 1, 2, 0.0f));
+    dummy_array.upload(far_moments);
+    small.format = VK_FORMAT_R8G8B8A8_UNORM;
+    dummy_white = GpuImage(context, small);
+    dummy_white.upload(Image(1, 1, 4, 1.0f));
+
+    if (options.shadows == ShadowMode::kMap || options.shadows == ShadowMode::kVsm) {
+      const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
+      for (size_t i = 0; i < lights.size() && shadow_lights.size() < kMaxShadowCubes; ++i)
+        if (lights[i].type == LightType::kPoint || lights[i].type == LightType::kSpot)
+          shadow_lights.push_back(static_cast<int>(i));
+      for (size_t i = 0; i < lights.size() && cascade_light < 0; ++i)
+        if (lights[i].type == LightType::kDirectional) cascade_light = static_cast<int>(i);
+      if (cascade_light >= 0) {
+        gpu::ImageDesc c;
+        c.width = c.height = r;
+        c.layers = kCascades;
+        c.format = kShadowFormat;
+        c.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        cascades = GpuImage(context, c);
+      }
+      if (!shadow_lights.empty() || cascade_light >= 0) {
+        gpu::ImageDesc sd;
+        sd.width = sd.height = r;
+        sd.format = kShadowDepthFormat;
+        sd.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+        shadow_depth = GpuImage(context, sd);
+      }
+      if (!shadow_lights.empty()) {
+        gpu::ImageDesc c;
+        c.width = c.height = r;
+        c.layers = static_cast<uint32_t>(6 * shadow_lights.size());
+        c.cube = true;
+        c.cube_array = true;
+        c.format = kShadowFormat;
+        c.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        shadow_cubes = GpuImage(context, c);
+      }
+    }
+  }
+
+  float shadow_far(const Light& l) const {
+    if (l.range > 0.0f) return l.range;
+    const Bounds3 b = scene.bounds();
+    return glm::length(l.position - b.center()) + b.diagonal() + 1e-3f;
+  }
+
+  void upload_lights() {
+    std::vector<GpuLight> gl;
+    std::vector<glm::mat4> views;
+    for (size_t i = 0; i < lights.size(); ++i) {
+      const Light& l = lights[i];
+      GpuLight g{};
+      g.position_range = vec4(l.position, l.range);
+      g.direction_cos = vec4(glm::normalize(l.direction), l.cos_cutoff());
+      int type = 0;
+      Color color = l.intensity;
+      switch (l.type) {
+        case LightType::kPoint:
+          type = 0;
+          break;
+        case LightType::kSpot:
+          type = 1;
+          break;
+        case LightType::kDirectional:
+          type = 2;
+          color = l.irradiance;
+          break;
+        default:
+          color = Color(0.0f);
+          break;  // area/environment: not lit in real time
+      }
+      g.color_type = vec4(color, static_cast<float>(type));
+      g.shadow = glm::ivec4(-1, 0, 0, 0);
+      g.shadow_params = vec4(shadow_far(l), 0.0f, 0.0f, 0.0f);
+      gl.push_back(g);
+    }
+    for (size_t s = 0; s < shadow_lights.size(); ++s) {
+      const Light& l = lights[static_cast<size_t>(shadow_lights[s])];
+      GpuLight& g = gl[static_cast<size_t>(shadow_lights[s])];
+      g.shadow = glm::ivec4(static_cast<int>(s), static_cast<int>(views.size()), 6, 0);
+      const float far_plane = g.shadow_params.x;
+      // No y flip: Vulkan and OpenGL both map NDC y = −1 to the first row in memory, so the
+      // OpenGL cube-face conventions (face axes and up vectors) apply unchanged.
+      const mat4 proj = glm::perspectiveRH_ZO(radians(90.0f), 1.0f, far_plane * 1e-4f, far_plane);
+      const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+      const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+      for (int f = 0; f < 6; ++f)
+        views.push_back(proj * glm::lookAtRH(l.position, l.position + axes[f], ups[f]));
+    }
+    if (cascade_light >= 0) {
+      GpuLight& g = gl[static_cast<size_t>(cascade_light)];
+      g.shadow = glm::ivec4(-1, static_cast<int>(views.size()), kCascades, 0);
+      g.shadow_params = cascade_half_widths;
+      for (int k = 0; k < kCascades; ++k)
+        views.emplace_back(cascade_matrices[static_cast<size_t>(k)]);
+    }
+    if (gl.empty()) gl.push_back(GpuLight{});
+    if (views.empty()) views.emplace_back(1.0f);
+    lights_buffer.write(gl.data(), gl.size() * sizeof(GpuLight));
+    shadow_views.write(views.data(), views.size() * sizeof(glm::mat4));
+  }
+
+  void create_buffers() {
+    frame_ubo = gpu::Buffer(context, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            gpu::MemoryUsage::kUpload);
+    const size_t nl = std::max<size_t>(1, lights.size());
+    lights_buffer = gpu::Buffer(context, nl * sizeof(GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                gpu::MemoryUsage::kUpload);
+    shadow_views = gpu::Buffer(context, (6 * shadow_lights.size() + kCascades) * sizeof(glm::mat4),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+    tiles_x = (width + 15) / 16;
+    tiles_y = (height + 15) / 16;
+    luminance = gpu::Buffer(context, (tiles_x * tiles_y + 1) * sizeof(float),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kDevice);
+    upload_lights();
+  }
+
+  void create_descriptors() {
+    linear = gpu::Sampler(context, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_REPEAT, true);
+    nearest = gpu::Sampler(context, VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
+    clamp_linear = gpu::Sampler(context, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
+    using B = gpu::DescriptorBinding;
+    frame_layout = gpu::DescriptorSetLayout(
+        context,
+        {B{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         B{2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, B{3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         B{4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+         B{5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+         B{6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, B{7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+         B{8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}});
+    frame_set = descriptors.allocate(frame_layout);
+    material_layout =
+        gpu::DescriptorSetLayout(context, {B{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+                                           B{1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+                                           B{2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
+                                           B{3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}});
+    gpu::DescriptorWriter w;
+    const auto ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    w.buffer(frame_set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frame_ubo.handle())
+        .buffer(frame_set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.materials().handle())
+        .buffer(frame_set, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lights_buffer.handle())
+        .buffer(frame_set, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadow_views.handle());
+    // PCF compares single texels; VSM filters the moments.
+    const VkSampler shadow_sampler =
+        options.shadows == ShadowMode::kVsm ? clamp_linear.handle() : nearest.handle();
+    w.image(frame_set, 4, cis, shadow_cubes ? shadow_cubes.view() : dummy_cube.view(),
+            shadow_sampler, ro);
+    w.image(frame_set, 5, cis, cascades ? cascades.view() : dummy_array.view(), shadow_sampler, ro);
+    w.image(frame_set, 6, cis, dummy_array.view(), clamp_linear.handle(), ro);
+    ambient_cubes = gpu::Buffer(context, 6 * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                gpu::MemoryUsage::kUpload);
+    w.buffer(frame_set, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ambient_cubes.handle());
+    prt_transfer = gpu::Buffer(context, sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               gpu::MemoryUsage::kUpload);
+    w.buffer(frame_set, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, prt_transfer.handle());
+    draw_cube.assign(scene.draws().size(), 0);
+    const Scene& sc = scene.scene();
+    const size_t nmat = std::max<size_t>(1, sc.materials.size());
+    auto texture_view = [&](int index) {
+      return index >= 0 && static_cast<size_t>(index) < scene.textures().size()
+                 ? scene.textures()[static_cast<size_t>(index)].view()
+                 : dummy_white.view();
+    };
+    for (size_t m = 0; m < nmat; ++m) {
+      const VkDescriptorSet set = descriptors.allocate(material_layout);
+      const Material mat = m < sc.materials.size() ? sc.materials[m] : Material{};
+      w.image(set, 0, cis, texture_view(mat.albedo_texture), linear.handle(), ro)
+          .image(set, 1, cis, texture_view(mat.normal_texture), linear.handle(), ro)
+          .image(set, 2, cis, texture_view(mat.emission_texture), linear.handle(), ro)
+          .image(set, 3, cis, dummy_white.view(), linear.handle(), ro);
+      material_sets.push_back(set);
+    }
+    w.commit(context.device());
+
+    if (g_albedo) {
+      gbuffer_layout = gpu::DescriptorSetLayout(
+          context, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis}, B{4, cis}});
+      gbuffer_set = descriptors.allocate(gbuffer_layout);
+      w.image(gbuffer_set, 0, cis, g_albedo.view(), nearest.handle(), ro)
+          .image(gbuffer_set, 1, cis, g_normal.view(), nearest.handle(), ro)
+          .image(gbuffer_set, 2, cis, g_geometry.view(), nearest.handle(), ro)
+          .image(gbuffer_set, 3, cis, g_specular.view(), nearest.handle(), ro)
+          .image(gbuffer_set, 4, cis, depth.view(), nearest.handle(),
+                 VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
+          .commit(context.device());
+    }
+    tonemap_layout =
+        gpu::DescriptorSetLayout(context, {B{0, cis}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                                           B{2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, B{3, cis}});
+    tonemap_set = descriptors.allocate(tonemap_layout);
+    w.image(tonemap_set, 0, cis, hdr.view(), nearest.handle(), ro)
+        .buffer(tonemap_set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, luminance.handle())
+        .image(tonemap_set, 2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, ldr.view(), VK_NULL_HANDLE,
+               VK_IMAGE_LAYOUT_GENERAL)
+        .image(tonemap_set, 3, cis, bloom_a ? bloom_a.view() : dummy_2d.view(),
+               clamp_linear.handle(), ro)
+        .commit(context.device());
+    if (bloom_a) {
+      bloom_layout =
+          gpu::DescriptorSetLayout(context, {B{0, cis}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}});
+      const VkImageView src[3] = {hdr.view(), bloom_a.view(), bloom_b.view()};
+      const VkImageView dst[3] = {bloom_a.view(), bloom_b.view(), bloom_a.view()};
+      for (int k = 0; k < 3; ++k) {
+        bloom_sets[k] = descriptors.allocate(bloom_layout);
+        w.image(bloom_sets[k], 0, cis, src[k], clamp_linear.handle(), ro)
+            .image(bloom_sets[k], 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, dst[k], VK_NULL_HANDLE,
+                   VK_IMAGE_LAYOUT_GENERAL);
+      }
+      w.commit(context.device());
+    }
+  }
+
+  void create_pipelines() {
+    scene_pipeline_layout = gpu::PipelineLayout(
+        context, {frame_layout.handle(), material_layout.handle()}, sizeof(PushConstants));
+    tonemap_pipeline_layout = gpu::PipelineLayout(context, {tonemap_layout.handle()}, 32);
+    gpu::GraphicsPipelineDesc fwd;
+    fwd.vertex_shader = "forward.vert";
+    fwd.fragment_shader = "forward.frag";
+    fwd.vertex_input = mesh_vertex_input(false);
+    fwd.cull = VK_CULL_MODE_NONE;  // scenes are two-sided, like the offline renderers
+    fwd.color_formats = {kHdrFormat};
+    fwd.depth_format = depth_format;
+    fwd.stencil_format = depth_format;
+    forward = gpu::Pipeline(context, scene_pipeline_layout.handle(), fwd);
+    if (shadow_cubes) {
+      gpu::GraphicsPipelineDesc sh;
+      sh.vertex_shader = "shadow_cube.vert";
+      sh.fragment_shader = "shadow_cube.frag";
+      sh.vertex_input = mesh_vertex_input(true);
+      sh.cull = VK_CULL_MODE_NONE;
+      sh.color_formats = {kShadowFormat};
+      sh.depth_format = kShadowDepthFormat;
+      shadow_cube = gpu::Pipeline(context, scene_pipeline_layout.handle(), sh);
+    }
+    if (cascades) {
+      gpu::GraphicsPipelineDesc sh;
+      sh.vertex_shader = "shadow_cube.vert";
+      sh.fragment_shader = "shadow_dir.frag";
+      sh.vertex_input = mesh_vertex_input(true);
+      sh.cull = VK_CULL_MODE_NONE;
+      sh.depth_clamp = context.depth_clamp();  // casters behind the cascade's near plane
+      sh.color_formats = {kShadowFormat};
+      sh.depth_format = kShadowDepthFormat;
+      shadow_dir = gpu::Pipeline(context, scene_pipeline_layout.handle(), sh);
+    }
+    if (g_albedo) {
+      deferred_pipeline_layout = gpu::PipelineLayout(
+          context, {frame_layout.handle(), material_layout.handle(), gbuffer_layout.handle()},
+          sizeof(PushConstants));
+      gpu::GraphicsPipelineDesc g = fwd;
+      g.fragment_shader = "gbuffer.frag";
+      g.color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT,
+                         VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat};
+      gbuffer_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), g);
+      gpu::GraphicsPipelineDesc l;
+      l.vertex_shader = "deferred_light.vert";
+      l.fragment_shader = "deferred_light.frag";
+      l.vertex_input.stride = sizeof(vec3);
+      l.vertex_input.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+      l.color_formats = {kHdrFormat};
+      l.depth_format = depth_format;
+      l.stencil_format = depth_format;
+      l.depth_write = false;
+      l.depth_clamp = context.depth_clamp();
+      // Stencil trick (S001 §4.1): mark pixels whose surface lies inside the sphere (z-fail
+      // count ≠ 0), then shade them once through the back faces.
+      gpu::GraphicsPipelineDesc st = l;
+      st.fragment_shader = "";
+      st.cull = VK_CULL_MODE_NONE;
+      st.color_write = false;
+      st.stencil_test = true;
+      st.stencil_front = {VK_STENCIL_OP_KEEP,
+                          VK_STENCIL_OP_KEEP,
+                          VK_STENCIL_OP_DECREMENT_AND_WRAP,
+                          VK_COMPARE_OP_ALWAYS,
+                          0xff,
+                          0xff,
+                          0};
+      st.stencil_back = {VK_STENCIL_OP_KEEP,
+                         VK_STENCIL_OP_KEEP,
+                         VK_STENCIL_OP_INCREMENT_AND_WRAP,
+                         VK_COMPARE_OP_ALWAYS,
+                         0xff,
+                         0xff,
+                         0};
+      light_stencil_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), st);
+      gpu::GraphicsPipelineDesc lv = l;
+      // Both faces, no depth test (works with the camera inside the sphere); a shaded pixel
+      // zeroes its stencil so the other face cannot light it twice.
+      lv.cull = VK_CULL_MODE_NONE;
+      lv.depth_test = false;
+      lv.additive_blend = true;
+      lv.stencil_test = true;
+      lv.stencil_front = {VK_STENCIL_OP_KEEP,
+                          VK_STENCIL_OP_ZERO,
+                          VK_STENCIL_OP_KEEP,
+                          VK_COMPARE_OP_NOT_EQUAL,
+                          0xff,
+                          0xff,
+                          0};
+      lv.stencil_back = lv.stencil_front;
+      light_volume_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), lv);
+      gpu::GraphicsPipelineDesc fs = l;
+      fs.cull = VK_CULL_MODE_NONE;
+      fs.depth_test = false;
+      fs.additive_blend = true;
+      light_fullscreen_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), fs);
+    }
+    if (volume_builder) {
+      gpu::GraphicsPipelineDesc v;
+      v.vertex_shader = "shadow_volume.vert";
+      v.vertex_input.stride = sizeof(glm::vec4);
+      v.vertex_input.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+      v.cull = VK_CULL_MODE_NONE;
+      v.depth_write = false;
+      v.depth_compare = VK_COMPARE_OP_LESS;
+      v.depth_clamp = true;  // the back cap lies at infinity
+      v.stencil_test = true;
+      // z-fail (Carmack's reverse): count volume faces behind the visible surface.
+      v.stencil_front = {VK_STENCIL_OP_KEEP,
+                         VK_STENCIL_OP_KEEP,
+                         VK_STENCIL_OP_DECREMENT_AND_WRAP,
+                         VK_COMPARE_OP_ALWAYS,
+                         0xff,
+                         0xff,
+                         0};
+      v.stencil_back = {VK_STENCIL_OP_KEEP,
+                        VK_STENCIL_OP_KEEP,
+                        VK_STENCIL_OP_INCREMENT_AND_WRAP,
+                        VK_COMPARE_OP_ALWAYS,
+                        0xff,
+                        0xff,
+                        0};
+      v.color_formats = {kHdrFormat};
+      v.color_write = false;
+      v.depth_format = depth_format;
+      v.stencil_format = depth_format;
+      volume_stencil = gpu::Pipeline(context, scene_pipeline_layout.handle(), v);
+      gpu::GraphicsPipelineDesc l = fwd;
+      l.depth_write = false;
+      // Same vertex shader and state as the depth pass, so the depths repeat exactly (the
+      // SPIR-V Invariant decoration on gl_Position trips the validator's struct-member rule).
+      l.depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL;
+      l.additive_blend = true;
+      l.stencil_test = true;
+      l.stencil_front = {VK_STENCIL_OP_KEEP,
+                         VK_STENCIL_OP_KEEP,
+                         VK_STENCIL_OP_KEEP,
+                         VK_COMPARE_OP_EQUAL,
+                         0xff,
+                         0,
+                         0};
+      l.stencil_back = l.stencil_front;
+      volume_light = gpu::Pipeline(context, scene_pipeline_layout.handle(), l);
+    }
+    if (bloom_a) {
+      bloom_pipeline_layout = gpu::PipelineLayout(context, {bloom_layout.handle()}, 16);
+      bloom_bright = gpu::Pipeline(context, bloom_pipeline_layout.handle(), "bloom_bright.comp");
+      bloom_blur = gpu::Pipeline(context, bloom_pipeline_layout.handle(), "bloom_blur.comp");
+    }
+    luminance_pipe = gpu::Pipeline(context, tonemap_pipeline_layout.handle(), "luminance.comp");
+    reduce_pipe = gpu::Pipeline(context, tonemap_pipeline_layout.handle(), "luminance_reduce.comp");
+    tonemap_pipe = gpu::Pipeline(context, tonemap_pipeline_layout.handle(), "tonemap.comp");
+  }
+
+  void bind_scene(VkCommandBuffer c, VkPipeline pipeline) {
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout.handle(), 0,
+                            1, &frame_set, 0, nullptr);
+    VkDeviceSize offset = 0;
+    VkBuffer vb = scene.vertices().handle();
+    vkCmdBindVertexBuffers(c, 0, 1, &vb, &offset);
+    vkCmdBindIndexBuffer(c, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+  }
+
+  // Colour passes pass each draw's ambient-cube slot in push.view_index; shadow passes use
+  // it for the shadow view.
+  void draw_scene(VkCommandBuffer c, PushConstants push, bool colour_pass) {
+    const bool materials = true;
+    int bound = -1;
+    for (size_t di = 0; di < scene.draws().size(); ++di) {
+      const DrawItem& d = scene.draws()[di];
+      if (colour_pass) push.view_index = draw_cube[di];
+      push.model = d.transform;
+      push.material = std::clamp<int>(d.material, 0, static_cast<int>(material_sets.size()) - 1);
+      if (materials && push.material != bound) {
+        bound = push.material;
+        vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout.handle(),
+                                1, 1, &material_sets[static_cast<size_t>(bound)], 0, nullptr);
+      }
+      vkCmdPushConstants(c, scene_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push),
+                         &push);
+      const MeshRange& r = scene.meshes()[d.mesh];
+      vkCmdDrawIndexed(c, r.index_count, 1, r.first_index, r.vertex_offset, 0);
+    }
+  }
+
+  void record_shadow_maps(VkCommandBuffer c) {
+    const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
+    GpuImage& cube = shadow_cubes;
+    cube.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
+    for (size_t s = 0; s < shadow_lights.size(); ++s) {
+      for (uint32_t f = 0; f < 6; ++f) {
+        shadow_depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
+                                kDepthAccess);
+        VkRenderingAttachmentInfo color = color_attachment(
+            cube.layer_view(static_cast<uint32_t>(6 * s + f)), true, {{1.0f, 1.0f, 0.0f, 0.0f}});
+        VkRenderingAttachmentInfo depth_att = depth_attachment(shadow_depth.view(), true);
+        depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+        info.renderArea = {{0, 0}, {r, r}};
+        info.layerCount = 1;
+        info.colorAttachmentCount = 1;
+        info.pColorAttachments = &color;
+        info.pDepthAttachment = &depth_att;
+        vkCmdBeginRendering(c, &info);
+        set_viewport(c, r, r);
+        bind_scene(c, shadow_cube.handle());
+        PushConstants push{};
+        push.view_index = static_cast<int>(6 * s + f);
+        push.light_index = shadow_lights[s];
+        draw_scene(c, push, false);
+        vkCmdEndRendering(c);
+      }
+    }
+    cube.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kSampleStage,
+                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  }
+
+  void record_cascades(VkCommandBuffer c) {
+    const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
+    cascades.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
+    for (int k = 0; k < kCascades; ++k) {
+      shadow_depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
+                              kDepthAccess);
+      VkRenderingAttachmentInfo color = color_attachment(
+          cascades.layer_view(static_cast<uint32_t>(k)), true, {{1.0f, 1.0f, 0.0f, 0.0f}});
+      VkRenderingAttachmentInfo depth_att = depth_attachment(shadow_depth.view(), true);
+      depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      info.renderArea = {{0, 0}, {r, r}};
+      info.layerCount = 1;
+      info.colorAttachmentCount = 1;
+      info.pColorAttachments = &color;
+      info.pDepthAttachment = &depth_att;
+      vkCmdBeginRendering(c, &info);
+      set_viewport(c, r, r);
+      bind_scene(c, shadow_dir.handle());
+      PushConstants push{};
+      push.view_index = static_cast<int>(6 * shadow_lights.size()) + k;
+      push.light_index = cascade_light;
+      draw_scene(c, push, false);
+      vkCmdEndRendering(c);
+    }
+    cascades.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kSampleStage,
+                        VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  }
+
+  // Cascaded shadow maps (S001 §4.2.1): the view frustum split between uniform and
+  // logarithmic (λ = 0.5); each split's bounding sphere gets an orthographic light view,
+  // snapped to whole texels so the maps do not shimmer as the camera moves.
+  glm::vec4 update_cascades(const Camera& camera, float aspect, float near_plane, float far_plane) {
+    const Light& l = lights[static_cast<size_t>(cascade_light)];
+    const vec3 dir = glm::normalize(l.direction);
+    const mat4 inv_view = glm::inverse(camera.view_matrix());
+    const float tan_half = std::tan(0.5f * camera.fov_y);
+    const float scene_extent = scene.bounds().diagonal();
+    glm::vec4 splits(far_plane);
+    float prev = near_plane;
+    for (int k = 0; k < kCascades; ++k) {
+      const float f = static_cast<float>(k + 1) / kCascades;
+      const float split = 0.5f * (near_plane + (far_plane - near_plane) * f) +
+                          0.5f * near_plane * std::pow(far_plane / near_plane, f);
+      splits[k] = split;
+      vec3 center(0.0f);
+      vec3 corners[8];
+      int n = 0;
+      for (float z : {prev, split})
+        for (int sx : {-1, 1})
+          for (int sy : {-1, 1}) {
+            corners[n] =
+                vec3(inv_view * vec4(sx * z * tan_half * aspect, sy * z * tan_half, -z, 1.0f));
+            center += corners[n++];
+          }
+      center /= 8.0f;
+      float radius = 0.0f;
+      for (const vec3& c : corners) radius = std::max(radius, glm::length(c - center));
+      const vec3 up = std::abs(dir.y) > 0.99f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+      mat4 view = glm::lookAtRH(center - dir * scene_extent, center, up);
+      // Snap the light-space centre to the texel grid.
+      const float texel = 2.0f * radius / static_cast<float>(options.shadow_resolution);
+      vec4 origin = view * vec4(center, 1.0f);
+      const vec2 snapped = glm::floor(vec2(origin) / texel) * texel;
+      view = glm::translate(mat4(1.0f), vec3(snapped - vec2(origin), 0.0f)) * view;
+      const mat4 proj =
+          glm::orthoRH_ZO(-radius, radius, -radius, radius, 0.0f, scene_extent + radius);
+      cascade_matrices[static_cast<size_t>(k)] = proj * view;
+      cascade_half_widths[k] = radius;
+      prev = split;
+    }
+    upload_lights();
+    return splits;
+  }
+
+  void record_forward(VkCommandBuffer c) {
+    hdr.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
+    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
+                     kDepthAccess);
+    VkRenderingAttachmentInfo color = color_attachment(hdr.view(), true);
+    VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), true);
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {width, height}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth_att;
+    info.pStencilAttachment = &depth_att;
+    vkCmdBeginRendering(c, &info);
+    set_viewport(c, width, height);
+    bind_scene(c, forward.handle());
+    PushConstants push{};
+    push.pad = volume_builder ? 1 : 0;
+    draw_scene(c, push, true);
+    vkCmdEndRendering(c);
+  }
+
+  void record_gbuffer(VkCommandBuffer c) {
+    for (GpuImage* g : {&g_albedo, &g_normal, &g_geometry, &g_specular, &hdr})
+      g->transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
+    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
+                     kDepthAccess);
+    const VkRenderingAttachmentInfo colors[5] = {
+        color_attachment(g_albedo.view(), true), color_attachment(g_normal.view(), true),
+        color_attachment(g_geometry.view(), true), color_attachment(g_specular.view(), true),
+        color_attachment(hdr.view(), true)};
+    VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), true);
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {width, height}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 5;
+    info.pColorAttachments = colors;
+    info.pDepthAttachment = &depth_att;
+    info.pStencilAttachment = &depth_att;
+    vkCmdBeginRendering(c, &info);
+    set_viewport(c, width, height);
+    bind_scene(c, gbuffer_pipe.handle());
+    draw_scene(c, PushConstants{}, true);
+    vkCmdEndRendering(c);
+  }
+
+  void record_deferred_lighting(VkCommandBuffer c) {
+    for (GpuImage* g : {&g_albedo, &g_normal, &g_geometry, &g_specular})
+      g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    hdr.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
+    const VkImageLayout ds = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL;
+    depth.transition(c, ds, kDepthStage | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                     kDepthAccess | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    VkRenderingAttachmentInfo color = color_attachment(hdr.view(), false);
+    VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), false);
+    depth_att.imageLayout = ds;
+    depth_att.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
+    VkRenderingAttachmentInfo stencil_att = depth_attachment(depth.layer_view(0), true);
+    stencil_att.imageLayout = ds;
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {width, height}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth_att;
+    info.pStencilAttachment = &stencil_att;
+    vkCmdBeginRendering(c, &info);
+    set_viewport(c, width, height);
+    const VkPipelineLayout layout = deferred_pipeline_layout.handle();
+    const VkDescriptorSet sets[3] = {frame_set, material_sets[0], gbuffer_set};
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 3, sets, 0, nullptr);
+    VkDeviceSize offset = 0;
+    VkBuffer vb = sphere_vertices.handle();
+    vkCmdBindVertexBuffers(c, 0, 1, &vb, &offset);
+    vkCmdBindIndexBuffer(c, sphere_indices.handle(), 0, VK_INDEX_TYPE_UINT32);
+    for (size_t i = 0; i < lights.size(); ++i) {
+      if (options.single_light >= 0 && static_cast<int>(i) != options.single_light) continue;
+      const Light& l = lights[i];
+      if (l.type != LightType::kPoint && l.type != LightType::kSpot &&
+          l.type != LightType::kDirectional)
+        continue;
+      PushConstants push{};
+      push.light_index = static_cast<int>(i);
+      const bool volume = l.type != LightType::kDirectional && l.range > 0.0f;
+      if (volume) {
+        VkClearAttachment clear{VK_IMAGE_ASPECT_STENCIL_BIT, 0, {}};
+        clear.clearValue.depthStencil = {1.0f, 0};
+        VkClearRect rect{{{0, 0}, {width, height}}, 0, 1};
+        vkCmdClearAttachments(c, 1, &clear, 1, &rect);
+        push.view_index = 0;
+        vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_stencil_pipe.handle());
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        vkCmdDrawIndexed(c, sphere_index_count, 1, 0, 0, 0);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_volume_pipe.handle());
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        vkCmdDrawIndexed(c, sphere_index_count, 1, 0, 0, 0);
+      } else {
+        push.view_index = 1;
+        vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_fullscreen_pipe.handle());
+        vkCmdDraw(c, 3, 1, 0, 0);
+      }
+    }
+    vkCmdEndRendering(c);
+  }
+
+  void build_volumes() {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<glm::vec4> all, one;
+    volume_ranges.clear();
+    // Front caps sit this far behind their casters, beyond the depth buffer's resolution,
+    // so a lit caster never fights with its own cap.
+    const float offset = scene.bounds().diagonal() * 2e-3f;
+    ShadowVolumeStats total;
+    for (const Light& l : lights) {
+      const bool casts = l.type == LightType::kPoint || l.type == LightType::kSpot ||
+                         l.type == LightType::kDirectional;
+      ShadowVolumeStats st;
+      if (casts)
+        volume_builder->build(l, options.volume_back_faces, offset, &one, &st);
+      else
+        one.clear();
+      volume_ranges.emplace_back(static_cast<uint32_t>(all.size()),
+                                 static_cast<uint32_t>(one.size()));
+      all.insert(all.end(), one.begin(), one.end());
+      total.caster_triangles += st.caster_triangles;
+      total.silhouette_edges += st.silhouette_edges;
+      total.volume_triangles += st.volume_triangles;
+    }
+    if (all.empty()) all.emplace_back(0.0f);
+    const VkDeviceSize bytes = all.size() * sizeof(glm::vec4);
+    if (!volume_vertices || volume_vertices.size() < bytes) {
+      context.wait_idle();
+      volume_vertices =
+          gpu::Buffer(context, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+    }
+    volume_vertices.write(all.data(), bytes);
+    total.build_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    volume_stats = total;
+    silhouette_ms = total.build_ms;
+    volumes_dirty = false;
+  }
+
+  // Per light: stencil = z-fail count of its volumes, then the light's contribution added
+  // where the count is zero (depth EQUAL against the depth pass).
+  void record_volume_lighting(VkCommandBuffer c) {
+    hdr.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
+    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
+                     kDepthAccess);
+    for (size_t i = 0; i < lights.size(); ++i) {
+      if (options.single_light >= 0 && static_cast<int>(i) != options.single_light) continue;
+      VkRenderingAttachmentInfo color = color_attachment(hdr.view(), false);
+      VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), false);
+      VkRenderingAttachmentInfo stencil_att = depth_attachment(depth.layer_view(0), true);
+      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      info.renderArea = {{0, 0}, {width, height}};
+      info.layerCount = 1;
+      info.colorAttachmentCount = 1;
+      info.pColorAttachments = &color;
+      info.pDepthAttachment = &depth_att;
+      info.pStencilAttachment = &stencil_att;
+      const uint32_t stencil_scope = timer.begin(c, "stencil_volumes");
+      vkCmdBeginRendering(c, &info);
+      set_viewport(c, width, height);
+      const auto [first, count] = volume_ranges[i];
+      if (count > 0) {
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, volume_stencil.handle());
+        vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout.handle(),
+                                0, 1, &frame_set, 0, nullptr);
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        VkDeviceSize offset = 0;
+        VkBuffer vb = volume_vertices.handle();
+        vkCmdBindVertexBuffers(c, 0, 1, &vb, &offset);
+        vkCmdDraw(c, count, 1, first, 0);
+      }
+      timer.end(c, stencil_scope);
+      const uint32_t light_scope = timer.begin(c, "volume_lighting");
+      bind_scene(c, volume_light.handle());
+      vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+      PushConstants push{};
+      push.pad = 2;
+      push.light_index = static_cast<int>(i);
+      draw_scene(c, push, true);
+      vkCmdEndRendering(c);
+      timer.end(c, light_scope);
+    }
+  }
+
+  void record_luminance(VkCommandBuffer c) {
+    hdr.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    // The previous frame's tone map read the buffer; the write below must wait for it.
+    memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, tonemap_pipeline_layout.handle(), 0,
+                            1, &tonemap_set, 0, nullptr);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, luminance_pipe.handle());
+    vkCmdDispatch(c, tiles_x, tiles_y, 1);
+    memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, reduce_pipe.handle());
+    const uint32_t push[2] = {tiles_x * tiles_y, width * height};
+    vkCmdPushConstants(c, tonemap_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push),
+                       push);
+    vkCmdDispatch(c, 1, 1, 1);
+    memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+  }
+
+  // Bright pass into A (half resolution), Gaussian A → B horizontally, B → A vertically.
+  void record_bloom(VkCommandBuffer c) {
+    hdr.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    const uint32_t bw = bloom_a.desc().width, bh = bloom_a.desc().height;
+    struct {
+      float dx, dy, threshold;
+      int32_t radius;
+    } push{0.0f, 0.0f, options.bloom_threshold, 8};
+    GpuImage* dst[3] = {&bloom_a, &bloom_b, &bloom_a};
+    GpuImage* src[3] = {&hdr, &bloom_a, &bloom_b};
+    for (int k = 0; k < 3; ++k) {
+      if (k > 0)
+        src[k]->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                           VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+      dst[k]->transition(c, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+      vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE,
+                        k == 0 ? bloom_bright.handle() : bloom_blur.handle());
+      vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, bloom_pipeline_layout.handle(), 0,
+                              1, &bloom_sets[k], 0, nullptr);
+      push.dx = k == 1 ? 1.0f : 0.0f;
+      push.dy = k == 2 ? 1.0f : 0.0f;
+      vkCmdPushConstants(c, bloom_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push),
+                         &push);
+      vkCmdDispatch(c, (bw + 15) / 16, (bh + 15) / 16, 1);
+    }
+    bloom_a.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                       VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  }
+
+  void record_tonemap(VkCommandBuffer c) {
+    hdr.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    ldr.transition(c, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    struct {
+      int32_t mapper, auto_exposure;
+      float exposure, key;
+      uint32_t avg_index;
+      float bloom_strength;
+    } push{static_cast<int32_t>(options.tone_mapper),
+           options.auto_exposure ? 1 : 0,
+           options.exposure,
+           options.key,
+           tiles_x * tiles_y,
+           bloom_a ? options.bloom_strength : 0.0f};
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, tonemap_pipeline_layout.handle(), 0,
+                            1, &tonemap_set, 0, nullptr);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, tonemap_pipe.handle());
+    vkCmdPushConstants(c, tonemap_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push),
+                       &push);
+    vkCmdDispatch(c, tiles_x, tiles_y, 1);
+  }
+
+  void build_graph() {
+    graph.import_resource("scene");
+    graph.import_resource("camera");
+    graph.import_resource("lights");
+    if (cascades)
+      graph.add_pass({"cascades",
+                      {"scene", "camera", "lights"},
+                      {"cascades"},
+                      UpdateSchedule::kEveryFrame,
+                      1,
+                      [this](VkCommandBuffer c) { record_cascades(c); }});
+    else
+      graph.import_resource("cascades");
+    if (shadow_cubes) {
+      PassDesc p{"shadow_maps",
+                 {"scene", "lights"},
+                 {"shadow_cubes"},
+                 UpdateSchedule::kOnChange,
+                 1,
+                 [this](VkCommandBuffer c) { record_shadow_maps(c); }};
+      if (options.shadow_update_period > 0) {
+        p.schedule = UpdateSchedule::kEveryN;
+        p.period = options.shadow_update_period;
+      }
+      graph.add_pass(std::move(p));
+    } else {
+      graph.import_resource("shadow_cubes");
+    }
+    if (g_albedo) {
+      graph.add_pass({"gbuffer",
+                      {"scene", "camera"},
+                      {"gbuffer", "hdr", "depth"},
+                      UpdateSchedule::kEveryFrame,
+                      1,
+                      [this](VkCommandBuffer c) { record_gbuffer(c); }});
+      graph.add_pass({"lighting",
+                      {"gbuffer", "depth", "lights", "shadow_cubes", "cascades", "hdr"},
+                      {"hdr"},
+                      UpdateSchedule::kEveryFrame,
+                      1,
+                      [this](VkCommandBuffer c) { record_deferred_lighting(c); }});
+    } else {
+      graph.add_pass({"forward",
+                      {"scene", "camera", "lights", "shadow_cubes", "cascades"},
+                      {"hdr", "depth"},
+                      UpdateSchedule::kEveryFrame,
+                      1,
+                      [this](VkCommandBuffer c) { record_forward(c); }});
+    }
+    if (volume_builder) {
+      PassDesc p{"shadow_volumes",
+                 {"scene", "camera", "lights", "hdr", "depth"},
+                 {"hdr"},
+                 UpdateSchedule::kEveryFrame,
+                 1,
+                 [this](VkCommandBuffer c) { record_volume_lighting(c); }};
+      p.self_timed = true;
+      graph.add_pass(std::move(p));
+    }
+    graph.add_pass({"luminance",
+                    {"hdr"},
+                    {"log_average"},
+                    UpdateSchedule::kEveryFrame,
+                    1,
+                    [this](VkCommandBuffer c) { record_luminance(c); }});
+    if (bloom_a)
+      graph.add_pass(
+          {"bloom", {"hdr"}, {"bloom"}, UpdateSchedule::kEveryFrame, 1, [this](VkCommandBuffer c) {
+             record_bloom(c);
+           }});
+    else
+      graph.import_resource("bloom");
+    graph.add_pass({"tonemap",
+                    {"hdr", "log_average", "bloom"},
+                    {"ldr"},
+                    UpdateSchedule::kEveryFrame,
+                    1,
+                    [this](VkCommandBuffer c) { record_tonemap(c); }});
+    graph.compile();
+  }
+
+  void write_frame_uniforms(const Camera& camera) {
+    FrameUniforms u{};
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    const Bounds3 b = scene.bounds();
+    const float dist = glm::length(camera.position - b.center());
+    const float far_plane = std::max(dist + b.diagonal(), 1e-3f) * 1.01f;
+    // 1e-3: float depth then resolves ~1e-4 of the distance at 2 m in a 4 m scene, well
+    // below the shadow-volume cap offset.
+    const float near_plane = far_plane * 1e-3f;
+    u.view = camera.view_matrix();
+    u.proj = camera.projection_matrix(aspect, near_plane, far_plane);
+    u.view_proj = u.proj * u.view;
+    u.inv_view_proj = glm::inverse(u.view_proj);
+    u.camera_pos = vec4(camera.position, 0.0f);
+    u.ambient = vec4(options.ambient, 0.0f);
+    u.counts = glm::ivec4(static_cast<int>(lights.size()), options.half_lambert ? 1 : 0,
+                          shadow_cubes || cascades ? static_cast<int>(options.shadows) : 0,
+                          options.pcf_taps);
+    u.shadow_config = vec4(options.shadow_bias, options.pcf_radius, options.vsm_tau, 1e-7f);
+    u.options =
+        glm::ivec4(options.single_light, static_cast<int>(lightmap_info.kind), prt ? 1 : 0, 0);
+    if (prt) {
+      const vec3 centre = scene.bounds().center();
+      for (const Light& l : lights) {
+        vec3 w;
+        Color radiance;
+        if (l.type == LightType::kDirectional) {
+          w = -glm::normalize(l.direction);
+          radiance = l.irradiance;
+        } else if (l.type == LightType::kPoint || l.type == LightType::kSpot) {
+          const vec3 to = l.position - centre;
+          const float d2 = std::max(glm::dot(to, to), 1e-12f);
+          w = to / std::sqrt(d2);
+          radiance = l.intensity / d2;
+        } else {
+          continue;
+        }
+        const float y[4] = {0.282095f, 0.488603f * w.y, 0.488603f * w.z, 0.488603f * w.x};
+        for (int k = 0; k < 4; ++k) u.prt_light[k] += vec4(radiance * y[k], 0.0f);
+      }
+    }
+    u.ambient.w = lightmap_info.intensity;
+    if (cascades) u.cascade_splits = update_cascades(camera, aspect, near_plane, far_plane);
+    u.extent = vec4(static_cast<float>(width), static_cast<float>(height),
+                    1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
+    frame_ubo.write(&u, sizeof(u));
+  }
+
+  void render(const Camera& camera) {
+    write_frame_uniforms(camera);
+    silhouette_ms = -1.0;
+    if (volume_builder && volumes_dirty) build_volumes();
+    ILLUM_VK(vkResetCommandBuffer(cmd, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    ILLUM_VK(vkBeginCommandBuffer(cmd, &begin));
+    timer.reset(cmd);
+    graph.execute(cmd, frame_index++, &timer);
+    ILLUM_VK(vkEndCommandBuffer(cmd));
+    VkCommandBufferSubmitInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cb.commandBuffer = cmd;
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cb;
+    ILLUM_VK(vkQueueSubmit2(context.queue(), 1, &submit, fence));
+    ILLUM_VK(vkWaitForFences(context.device(), 1, &fence, VK_TRUE, UINT64_MAX));
+    ILLUM_VK(vkResetFences(context.device(), 1, &fence));
+    // Self-timed passes open one scope per light: report one sum per name.
+    times.clear();
+    for (const gpu::PassTime& t : timer.resolve()) {
+      auto it = std::find_if(times.begin(), times.end(),
+                             [&](const gpu::PassTime& x) { return x.name == t.name; });
+      if (it == times.end())
+        times.push_back(t);
+      else
+        it->ms += t.ms;
+    }
+    if (silhouette_ms >= 0.0) times.push_back({"cpu:silhouettes", silhouette_ms});
+  }
+};
+
+Renderer::Renderer(gpu::Context& context, const Scene& scene, const RendererOptions& options)
+    : impl_(std::make_unique<Impl>(context, scene, options)) {}
+
+Renderer::~Renderer() = default;
+
+void Renderer::render(const Camera& camera) {
+  impl_->render(camera);
+}
+
+const std::vector<gpu::PassTime>& Renderer::pass_times() const {
+  return impl_->times;
+}
+
+std::vector<std::string> Renderer::pass_order() const {
+  return impl_->graph.order();
+}
+
+Image Renderer::hdr() {
+  return impl_->hdr.readback();
+}
+
+gpu::GpuImage& Renderer::output_image() {
+  return impl_->ldr;
+}
+
+Image Renderer::ldr() {
+  Image img = impl_->ldr.readback();
+  for (size_t i = 0; i < img.pixel_count(); ++i)
+    for (int k = 0; k < 3; ++k) img.data()[i * 4 + k] = srgb_decode(img.data()[i * 4 + k]);
+  return img;
+}
+
+const RendererOptions& Renderer::options() const {
+  return impl_->options;
+}
+
+void Renderer::set_lightmap(const Lightmap& lightmap) {
+  const size_t expected = lightmap.kind == LightmapKind::kPlain  ? 1
+                          : lightmap.kind == LightmapKind::kRnm  ? 3
+                          : lightmap.kind == LightmapKind::kShL1 ? 4
+                                                                 : 0;
+  if (lightmap.layers.size() != expected)
+    throw Error(fmt::format("light-map: {} layers given, this kind needs {}",
+                            lightmap.layers.size(), expected));
+  Impl& m = *impl_;
+  m.context.wait_idle();
+  m.lightmap_info = lightmap;
+  m.lightmap_info.layers.clear();
+  VkImageView view = m.dummy_array.view();
+  if (expected > 0) {
+    const Image& first = lightmap.layers[0];
+    gpu::ImageDesc d;
+    d.width = static_cast<uint32_t>(first.width());
+    d.height = static_cast<uint32_t>(first.height());
+    d.layers = static_cast<uint32_t>(expected);
+    d.array = true;
+    d.format = VK_FORMAT_R16G16B16A16_SFLOAT;  // signed: SH coefficients can be negative
+    d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    m.lightmap_image = GpuImage(m.context, d);
+    for (size_t l = 0; l < expected; ++l) {
+      if (lightmap.layers[l].width() != first.width() ||
+          lightmap.layers[l].height() != first.height())
+        throw Error("light-map: all layers must have the same size");
+      m.lightmap_image.upload(lightmap.layers[l], static_cast<uint32_t>(l));
+    }
+    view = m.lightmap_image.view();
+  }
+  gpu::DescriptorWriter()
+      .image(m.frame_set, 6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, view,
+             m.clamp_linear.handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)
+      .commit(m.context.device());
+}
+
+void Renderer::set_ambient_cubes(const AmbientCubeGrid& grid) {
+  const glm::ivec3 n = grid.size;
+  if (n.x < 1 || n.y < 1 || n.z < 1 ||
+      grid.cubes.size() != static_cast<size_t>(n.x) * n.y * n.z * 6)
+    throw Error(fmt::format("ambient cubes: {} values for a {}×{}×{} grid (need 6 per probe)",
+                            grid.cubes.size(), n.x, n.y, n.z));
+  Impl& m = *impl_;
+  m.context.wait_idle();
+  const Scene& scene = m.scene.scene();
+  std::vector<vec4> data;
+  std::fill(m.draw_cube.begin(), m.draw_cube.end(), 0);
+  auto at = [&](int x, int y, int z, int f) {
+    return grid.cubes[((static_cast<size_t>(z) * n.y + y) * n.x + x) * 6 + f];
+  };
+  for (int inst : grid.instances) {
+    if (inst < 0 || static_cast<size_t>(inst) >= scene.instances.size())
+      throw Error(fmt::format("ambient cubes: instance {} does not exist", inst));
+    const Instance& in = scene.instances[static_cast<size_t>(inst)];
+    Bounds3 b;
+    for (const vec3& p : scene.meshes[static_cast<size_t>(in.mesh)].positions)
+      b.extend(vec3(in.transform * vec4(p, 1.0f)));
+    const vec3 g = glm::clamp((b.center() - grid.origin) / grid.spacing, vec3(0.0f), vec3(n - 1));
+    const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(g)), n - 1);
+    const glm::ivec3 i1 = glm::min(i0 + 1, n - 1);
+    const vec3 t = g - vec3(i0);
+    const int cube = static_cast<int>(data.size() / 6);
+    for (int f = 0; f < 6; ++f) {
+      Color c(0.0f);
+      for (int k = 0; k < 8; ++k) {
+        const int x = k & 1 ? i1.x : i0.x, y = k & 2 ? i1.y : i0.y, z = k & 4 ? i1.z : i0.z;
+        const float w = (k & 1 ? t.x : 1 - t.x) * (k & 2 ? t.y : 1 - t.y) * (k & 4 ? t.z : 1 - t.z);
+        c += w * at(x, y, z, f);
+      }
+      data.emplace_back(c, 0.0f);
+    }
+    for (size_t di = 0; di < m.scene.draws().size(); ++di)
+      if (m.scene.draw_instances()[di] == inst) m.draw_cube[di] = cube + 1;
+  }
+  if (data.empty()) data.resize(6, vec4(0.0f));
+  m.ambient_cubes = gpu::Buffer(m.context, data.size() * sizeof(vec4),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+  m.ambient_cubes.write(data.data(), data.size() * sizeof(vec4));
+  gpu::DescriptorWriter()
+      .buffer(m.frame_set, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.ambient_cubes.handle())
+      .commit(m.context.device());
+}
+
+void Renderer::set_prt_transfer(const std::vector<glm::vec4>& transfer) {
+  Impl& m = *impl_;
+  size_t vertices = 0;
+  for (const Mesh& mesh : m.scene.scene().meshes) vertices += mesh.positions.size();
+  if (transfer.size() != vertices)
+    throw Error(fmt::format("PRT: {} transfer vectors for {} vertices", transfer.size(), vertices));
+  if (m.options.technique != Technique::kForward)
+    throw Error("PRT display needs the forward technique");
+  m.context.wait_idle();
+  m.prt_transfer = gpu::Buffer(m.context, std::max<size_t>(1, transfer.size()) * sizeof(vec4),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+  if (!transfer.empty()) m.prt_transfer.write(transfer.data(), transfer.size() * sizeof(vec4));
+  gpu::DescriptorWriter()
+      .buffer(m.frame_set, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.prt_transfer.handle())
+      .commit(m.context.device());
+  m.prt = true;
+}
+
+void Renderer::update_lights(const std::vector<Light>& lights) {
+  ILLUM_CHECK(lights.size() == impl_->lights.size(), "update_lights cannot change the light count");
+  impl_->context.wait_idle();
+  impl_->lights = lights;
+  impl_->upload_lights();
+  impl_->graph.invalidate("shadow_maps");
+  impl_->volumes_dirty = true;
+}
+
+}  // namespace illum::realtime

@@ -1,0 +1,470 @@
+// Real-time renderer on lavapipe (or any Vulkan device) under the validation layer: the
+// forward path's direct lighting with point-light shadow maps against a brute-force CPU
+// reference of the same scene, camera and tone mapping.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "illum/core/color.h"
+#include "illum/core/tonemap.h"
+#include "illum/gpu/context.h"
+#include "illum/realtime/renderer.h"
+#include "test_scene.h"
+
+namespace illum::realtime {
+namespace {
+
+constexpr int kSize = 128;
+
+gpu::Context& context() {
+  static gpu::Context* c = [] {
+    gpu::ContextOptions o;
+    o.validation = true;
+    return new gpu::Context(o);
+  }();
+  return *c;
+}
+
+class RealtimeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
+    before_ = context().validation_message_count();
+  }
+  void TearDown() override {
+    EXPECT_EQ(context().validation_message_count(), before_) << "validation messages were emitted";
+  }
+  size_t before_ = 0;
+};
+
+struct Agreement {
+  size_t compared = 0, within = 0;
+  double mean_rel = 0.0;
+};
+
+// The fraction of non-edge pixels whose RGB agree within `rel` relative error (against
+// max(reference, floor) so black pixels compare absolutely).
+Agreement compare(const Image& gpu, const Image& cpu, const std::vector<uint8_t>& edge, float rel,
+                  float floor) {
+  Agreement a;
+  for (int y = 0; y < cpu.height(); ++y)
+    for (int x = 0; x < cpu.width(); ++x) {
+      if (edge[static_cast<size_t>(y) * cpu.width() + x]) continue;
+      const Color g = gpu.rgb(x, y), c = cpu.rgb(x, y);
+      float worst = 0.0f;
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(g[k] - c[k]) / std::max(c[k], floor));
+      ++a.compared;
+      a.within += worst <= rel ? 1 : 0;
+      a.mean_rel += worst;
+    }
+  a.mean_rel /= std::max<size_t>(1, a.compared);
+  return a;
+}
+
+TEST_F(RealtimeTest, ForwardDirectLightingMatchesCpuReference) {
+  const Scene scene = test::cornell_point_light();
+  RendererOptions o;
+  o.width = o.height = kSize;
+  o.shadows = ShadowMode::kMap;
+  o.pcf_taps = 1;  // hard shadows: the reference has no penumbra
+  o.shadow_resolution = 512;
+  o.tone_mapper = ToneMapOp::kAces;
+  o.auto_exposure = false;
+  o.exposure = 2.0f;
+  Renderer renderer(context(), scene, o);
+  renderer.render(*scene.camera);
+  const Image hdr = renderer.hdr();
+  const Image ldr = renderer.ldr();
+  write_image(std::string(ILLUM_BINARY_DIR) + "/realtime_forward_gpu.png", ldr);
+
+  const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
+  // A 1-pixel band around geometry and shadow edges is excluded: there the rasterizer's and
+  // the ray tracer's coverage of a pixel centre may legitimately differ, and the shadow map
+  // resolves the shadow boundary only to a texel (≈ 1 pixel at this resolution).
+  const std::vector<uint8_t> edge = test::edge_mask(ref, kSize, kSize, 1);
+  write_image(std::string(ILLUM_BINARY_DIR) + "/realtime_forward_cpu.png",
+              tone_mapped(ref.radiance, ToneMapper::kAces, o.exposure));
+
+  // Radiance: shading math is the same on both sides and the target is fp16 (relative
+  // precision 2⁻¹¹), so away from edges the only error is fp16 rounding and the float
+  // rounding of interpolated positions; 1% leaves a wide margin, and a wrong falloff,
+  // BRDF normalization or misplaced shadow moves far more pixels than the 1% allowed.
+  double mean_radiance = 0.0;
+  for (size_t i = 0; i < ref.radiance.pixel_count(); ++i)
+    mean_radiance +=
+        luminance(ref.radiance.rgb(static_cast<int>(i % kSize), static_cast<int>(i / kSize)));
+  mean_radiance /= ref.radiance.pixel_count();
+  const Agreement a =
+      compare(hdr, ref.radiance, edge, 0.01f, 0.01f * static_cast<float>(mean_radiance));
+  ASSERT_GT(a.compared, static_cast<size_t>(kSize * kSize / 2));
+  const double fraction = static_cast<double>(a.within) / a.compared;
+  RecordProperty("hdr_within_1pct", std::to_string(fraction));
+  EXPECT_GE(fraction, 0.99) << "mean relative error " << a.mean_rel;
+
+  // Tone mapping: the CPU ACES of the reference, same exposure, both 8-bit sRGB. The GPU
+  // value passed through an 8-bit target, so ±1 code (plus 1 for the fp16 input) is exact.
+  size_t compared = 0, within = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      if (edge[static_cast<size_t>(y) * kSize + x]) continue;
+      const Color c = tone_map(ref.radiance.rgb(x, y) * o.exposure, ToneMapper::kAces);
+      const Color g = ldr.rgb(x, y);
+      float worst = 0.0f;
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(srgb_encode(g[k]) - srgb_encode(c[k])));
+      ++compared;
+      within += worst <= 2.0f / 255.0f ? 1 : 0;
+    }
+  RecordProperty("ldr_within_2_codes", std::to_string(static_cast<double>(within) / compared));
+  EXPECT_GE(static_cast<double>(within) / compared, 0.99);
+  std::printf(
+      "forward vs CPU: %zu pixels compared, %.4f within 1%% (mean rel %.5f), %.4f LDR within 2 "
+      "codes\n",
+      a.compared, fraction, a.mean_rel, static_cast<double>(within) / compared);
+
+  // Shadows exist where the reference has them.
+  size_t shadow_pixels = 0;
+  for (uint8_t s : ref.shadowed) shadow_pixels += s;
+  EXPECT_GT(shadow_pixels, static_cast<size_t>(kSize * kSize / 50));
+}
+
+TEST_F(RealtimeTest, PassesAreTimedAndShadowMapsRunOnlyOnChange) {
+  const Scene scene = test::cornell_point_light();
+  RendererOptions o;
+  o.width = o.height = 64;
+  o.shadow_resolution = 64;
+  Renderer renderer(context(), scene, o);
+  renderer.render(*scene.camera);
+  auto names = [&] {
+    std::vector<std::string> n;
+    for (const auto& t : renderer.pass_times()) n.push_back(t.name);
+    return n;
+  };
+  const std::vector<std::string> first = {"shadow_maps", "forward", "luminance", "tonemap"};
+  if (context().timestamps()) {
+    EXPECT_EQ(names(), first);
+    for (const auto& t : renderer.pass_times()) EXPECT_GE(t.ms, 0.0) << t.name;
+  }
+  renderer.render(*scene.camera);
+  if (context().timestamps()) {
+    EXPECT_EQ(names(), (std::vector<std::string>{"forward", "luminance", "tonemap"}));
+  }
+  std::vector<Light> lights = scene.lights;
+  lights[0].position.x += 0.1f;
+  renderer.update_lights(lights);
+  renderer.render(*scene.camera);
+  if (context().timestamps()) {
+    EXPECT_EQ(names(), first);
+  }
+}
+
+TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
+  const Scene scene = test::cornell_point_light();
+  for (ToneMapOp op :
+       {ToneMapOp::kClamp, ToneMapOp::kReinhard, ToneMapOp::kAces, ToneMapOp::kAgx}) {
+    RendererOptions o;
+    o.width = o.height = 32;
+    o.shadow_resolution = 32;
+    o.tone_mapper = op;
+    Renderer renderer(context(), scene, o);
+    renderer.render(*scene.camera);
+    const Image ldr = renderer.ldr();
+    double mean = 0.0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const Color c = ldr.rgb(x, y);
+        for (int k = 0; k < 3; ++k) {
+          ASSERT_GE(c[k], 0.0f);
+          ASSERT_LE(c[k], 1.0f);
+        }
+        mean += luminance(c);
+      }
+    mean /= 32 * 32;
+    // Auto-exposure maps the log-average to the key 0.18: the mean display value is
+    // neither black nor white for every operator.
+    EXPECT_GT(mean, 0.02) << static_cast<int>(op);
+    EXPECT_LT(mean, 0.9) << static_cast<int>(op);
+  }
+}
+
+TEST_F(RealtimeTest, UnknownOptionNamesAreErrors) {
+  EXPECT_THROW(tone_map_op_from_string("filmic"), Error);
+  EXPECT_THROW(shadow_mode_from_string("soft"), Error);
+  EXPECT_THROW(technique_from_string("raytraced"), Error);
+}
+
+}  // namespace
+}  // namespace illum::realtime
+
+namespace illum::realtime {
+namespace {
+
+// The deferred path (G-buffer + light volumes with the stencil trick, or a full-screen pass
+// for lights without a radius) shades with the same functions as the forward path: the
+// HDR images agree to fp16 precision away from geometry edges.
+TEST_F(RealtimeTest, DeferredMatchesForward) {
+  Scene scene = test::cornell_point_light();
+  Light second;
+  second.type = LightType::kPoint;
+  second.position = vec3(0.8f, 0.5f, 0.8f);
+  second.intensity = Color(0.2f, 0.3f, 0.5f);
+  second.range = 0.6f;  // exercises the light-volume path and the radius window
+  scene.lights.push_back(second);
+  auto render = [&](Technique t) {
+    RendererOptions o;
+    o.width = o.height = kSize;
+    o.technique = t;
+    o.shadows = ShadowMode::kMap;
+    o.shadow_resolution = 256;
+    Renderer r(context(), scene, o);
+    r.render(*scene.camera);
+    return r.hdr();
+  };
+  const Image forward = render(Technique::kForward);
+  const Image deferred = render(Technique::kDeferred);
+  const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
+  std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
+  // Geometry edges only (shadows are identical lookups in both paths).
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = std::clamp(x + dx, 0, kSize - 1), yy = std::clamp(y + dy, 0, kSize - 1);
+          if (ref.surface[static_cast<size_t>(yy) * kSize + xx] !=
+              ref.surface[static_cast<size_t>(y) * kSize + x])
+            edge[static_cast<size_t>(y) * kSize + x] = 1;
+        }
+  double mean = 0.0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
+  mean /= kSize * kSize;
+  const Agreement a = compare(deferred, forward, edge, 0.01f, 0.01f * static_cast<float>(mean));
+  std::printf("deferred vs forward: %.4f of %zu pixels within 1%% (mean rel %.5f)\n",
+              static_cast<double>(a.within) / a.compared, a.compared, a.mean_rel);
+  EXPECT_GE(static_cast<double>(a.within) / a.compared, 0.99);
+}
+
+}  // namespace
+}  // namespace illum::realtime
+
+namespace illum::realtime {
+namespace {
+
+// Bloom adds only what exceeds the threshold: above the brightest pixel it changes nothing;
+// below it, light spreads into the neighbourhood of the bright emitter-lit areas.
+TEST_F(RealtimeTest, BloomAddsOnlyAboveThreshold) {
+  Scene scene = test::cornell_point_light();
+  scene.materials[0].emission = Color(0.0f);
+  Material lamp;
+  lamp.emission = Color(50.0f);
+  scene.materials.push_back(lamp);
+  test::add_quad(scene, {0.45f, 0.99f, 0.45f}, {0.55f, 0.99f, 0.45f}, {0.55f, 0.99f, 0.55f},
+                 {0.45f, 0.99f, 0.55f}, 3);
+  auto render = [&](float strength, float threshold) {
+    RendererOptions o;
+    o.width = o.height = 64;
+    o.shadow_resolution = 64;
+    o.auto_exposure = false;
+    o.tone_mapper = ToneMapOp::kAces;
+    o.bloom_strength = strength;
+    o.bloom_threshold = threshold;
+    Renderer r(context(), scene, o);
+    r.render(*scene.camera);
+    return r.ldr();
+  };
+  const Image plain = render(0.0f, 1.0f);
+  const Image high = render(1.0f, 1e6f);
+  const Image low = render(1.0f, 1.0f);
+  double diff_high = 0.0, gain_low = 0.0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      diff_high = std::max<double>(
+          diff_high, std::abs(luminance(high.rgb(x, y)) - luminance(plain.rgb(x, y))));
+      gain_low += luminance(low.rgb(x, y)) - luminance(plain.rgb(x, y));
+    }
+  EXPECT_LE(diff_high, 1.0 / 255.0);  // one 8-bit code
+  EXPECT_GT(gain_low / (64 * 64), 1.0 / 255.0);
+}
+
+}  // namespace
+}  // namespace illum::realtime
+
+namespace illum::realtime {
+namespace {
+
+// Baked light-map display with data generated here: a quad facing the camera, no lights,
+// plain / RNM / SH-L1 maps, without and with a (constant, tilted) tangent-space normal map.
+Scene lightmap_quad(bool normal_mapped, const vec3& n_ts) {
+  Scene s;
+  Material m;
+  m.albedo = Color(0.5f, 0.6f, 0.7f);
+  if (normal_mapped) {
+    Texture t;
+    t.srgb = false;
+    t.image = Image(4, 4, 4, 1.0f);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        for (int k = 0; k < 3; ++k) t.image.pixel(x, y)[k] = n_ts[k] * 0.5f + 0.5f;
+    s.textures.push_back(t);
+    m.normal_texture = 0;
+  }
+  s.materials.push_back(m);
+  Mesh q;
+  q.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  q.normals.assign(4, vec3(0, 0, 1));
+  q.tangents.assign(4, vec4(1, 0, 0, 1));
+  q.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  q.uv1 = q.uv0;
+  q.indices = {0, 1, 2, 0, 2, 3};
+  s.meshes.push_back(q);
+  s.instances.push_back({"", 0, mat4(1.0f)});
+  Camera c;
+  c.position = vec3(0, 0, 2);
+  c.look_at = vec3(0, 0, 0);
+  c.fov_y = radians(30.0f);
+  s.camera = c;
+  return s;
+}
+
+Color centre_pixel(Renderer& r, const Scene& scene, const Lightmap& lm) {
+  r.set_lightmap(lm);
+  r.render(*scene.camera);
+  return r.hdr().rgb(16, 16);
+}
+
+Image constant(const Color& c) {
+  Image img(8, 8, 3);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) img.set_rgb(x, y, c);
+  return img;
+}
+
+void expect_color_near(const Color& got, const Color& want) {
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(got[k], want[k], 2e-3f * std::max(1.0f, std::abs(want[k]))) << k;
+}
+
+TEST_F(RealtimeTest, LightmapsPlainRnmAndShL1) {
+  const Color albedo(0.5f, 0.6f, 0.7f);
+  const Color l0(0.8f, 0.4f, 0.2f), l1(0.1f, 0.9f, 0.3f), l2(0.3f, 0.2f, 1.0f),
+      l3(-0.2f, 0.1f, 0.4f);
+  const vec3 tilted = glm::normalize(vec3(0.6f, 0.0f, 0.8f));
+  for (bool mapped : {false, true}) {
+    const vec3 n = mapped ? tilted : vec3(0, 0, 1);
+    const Scene scene = lightmap_quad(mapped, n);
+    RendererOptions options;
+    options.width = options.height = 32;
+    options.shadows = ShadowMode::kNone;
+    Renderer renderer(context(), scene, options);
+    // Plain: albedo × L × N_z.
+    expect_color_near(centre_pixel(renderer, scene, {LightmapKind::kPlain, {constant(l0)}, 1.0f}),
+                      albedo * l0 * n.z);
+    // RNM: weights max(n·b_i, 0)² normalised.
+    const vec3 b[3] = {{0.816496581f, 0.0f, 0.577350269f},
+                       {-0.408248290f, 0.707106781f, 0.577350269f},
+                       {-0.408248290f, -0.707106781f, 0.577350269f}};
+    float w[3], sum = 0.0f;
+    for (int i = 0; i < 3; ++i) {
+      w[i] = std::max(glm::dot(n, b[i]), 0.0f);
+      w[i] *= w[i];
+      sum += w[i];
+    }
+    const Color rnm = albedo * (w[0] * l0 + w[1] * l1 + w[2] * l2) / sum;
+    expect_color_near(
+        centre_pixel(renderer, scene,
+                     {LightmapKind::kRnm, {constant(l0), constant(l1), constant(l2)}, 1.0f}),
+        rnm);
+    // SH-L1: E(n)/π = c0·Y00 + (2/3)(c1·Y1−1 + c2·Y10 + c3·Y11).
+    const Color e = 0.282095f * l0 + (2.0f / 3.0f) * 0.488603f * (l1 * n.y + l2 * n.z + l3 * n.x);
+    expect_color_near(
+        centre_pixel(
+            renderer, scene,
+            {LightmapKind::kShL1, {constant(l0), constant(l1), constant(l2), constant(l3)}, 1.0f}),
+        albedo * glm::max(e, Color(0.0f)));
+  }
+  // A wrong layer count is bad input.
+  const Scene scene = lightmap_quad(false, vec3(0, 0, 1));
+  RendererOptions o;
+  o.width = o.height = 8;
+  Renderer r(context(), scene, o);
+  EXPECT_THROW(r.set_lightmap({LightmapKind::kRnm, {constant(l0)}, 1.0f}), Error);
+}
+
+}  // namespace
+}  // namespace illum::realtime
+
+namespace illum::realtime {
+namespace {
+
+// Ambient cubes for a dynamic object: trilinear interpolation across a 2×1×1 grid at the
+// object's centre, then n_x²·C(±x) + n_y²·C(±y) + n_z²·C(±z) along the (normal-mapped) normal.
+TEST_F(RealtimeTest, AmbientCubesLightProbedInstances) {
+  const Color albedo(0.5f, 0.6f, 0.7f);
+  const vec3 n = glm::normalize(vec3(0.6f, 0.0f, 0.8f));
+  Scene scene = lightmap_quad(true, n);
+  scene.instances[0].transform = glm::translate(mat4(1.0f), vec3(0.5f, 0.0f, 0.0f));
+  scene.camera->position.x += 0.5f;
+  scene.camera->look_at.x += 0.5f;
+  AmbientCubeGrid grid;
+  grid.size = glm::ivec3(2, 1, 1);
+  grid.origin = vec3(-1.0f, 0.0f, 0.0f);
+  grid.spacing = vec3(2.0f);  // probes at x = −1 and x = +1; the quad's centre x = 0.5 → t = 0.75
+  const Color left_px(1, 0, 0), left_pz(0, 1, 0), right_px(0, 0, 1), right_pz(1, 1, 0);
+  for (const auto& [px, pz] : {std::pair{left_px, left_pz}, std::pair{right_px, right_pz}}) {
+    grid.cubes.insert(grid.cubes.end(),
+                      {px, Color(9.0f), Color(9.0f), Color(9.0f), pz, Color(9.0f)});
+  }
+  grid.instances = {0};
+  RendererOptions o;
+  o.width = o.height = 32;
+  o.shadows = ShadowMode::kNone;
+  o.ambient = Color(5.0f);  // must be replaced by the cube for the probed instance
+  Renderer r(context(), scene, o);
+  r.set_ambient_cubes(grid);
+  r.render(*scene.camera);
+  const Color cx = 0.25f * left_px + 0.75f * right_px, cz = 0.25f * left_pz + 0.75f * right_pz;
+  expect_color_near(r.hdr().rgb(16, 16), albedo * (n.x * n.x * cx + n.z * n.z * cz));
+  grid.cubes.pop_back();
+  EXPECT_THROW(r.set_ambient_cubes(grid), Error);
+}
+
+}  // namespace
+}  // namespace illum::realtime
+
+namespace illum::realtime {
+namespace {
+
+// PRT relit under a moving light: unshadowed diffuse transfer of a plane (the SH-L1
+// projection of max(n·ω, 0): π·Y00 and 2π/3·0.488603·n) under a directional light at angle
+// θ gives albedo/π · E · (1/4 + cosθ/2) — the L1 approximation of cosθ — for every θ
+// without re-uploading anything but the light.
+TEST_F(RealtimeTest, PrtTransferRelitUnderMovingLight) {
+  Scene scene = lightmap_quad(false, vec3(0, 0, 1));
+  const Color albedo = scene.materials[0].albedo;
+  Light sun;
+  sun.type = LightType::kDirectional;
+  sun.irradiance = Color(2.0f);
+  sun.direction = vec3(0, 0, -1);
+  scene.lights = {sun};
+  const vec4 t(kPi * 0.282095f, 0.0f, 2.0f * kPi / 3.0f * 0.488603f, 0.0f);  // n = +z
+  RendererOptions o;
+  o.width = o.height = 32;
+  o.shadows = ShadowMode::kNone;
+  Renderer r(context(), scene, o);
+  r.set_prt_transfer(std::vector<vec4>(4, t));
+  for (float degrees : {0.0f, 60.0f, 120.0f}) {
+    const float th = radians(degrees);
+    std::vector<Light> lights = scene.lights;
+    lights[0].direction = -vec3(std::sin(th), 0.0f, std::cos(th));
+    r.update_lights(lights);
+    r.render(*scene.camera);
+    const float expected = std::max(0.25f + 0.5f * std::cos(th), 0.0f);
+    expect_color_near(r.hdr().rgb(16, 16), albedo * kInvPi * sun.irradiance * expected);
+  }
+  EXPECT_THROW(r.set_prt_transfer(std::vector<vec4>(3, t)), Error);
+}
+
+}  // namespace
+}  // namespace illum::realtime
