@@ -16,12 +16,8 @@ Color photon_direct_lighting(const RayTracer& tracer, const LightSampler& lights
   const Color f = bsdf.eval(wo, ls->wi);
   if (is_black(f)) return Color(0.0f);
   if (visibility) {
-    Ray shadow{offset_ray_origin(si.p, si.ng, ls->wi), ls->wi};
-    // Stop just short of the light point, measured from the offset origin: the emitter's
-    // own geometry must not occlude it (the offset along the normal moves the origin
-    // toward a light the surface faces, so `distance` itself would overshoot).
-    if (std::isfinite(ls->distance))
-      shadow.tmax = glm::length(ls->p - shadow.origin) * (1.0f - 1e-3f);
+    // The shared shadow ray aims at the sampled light point and stops just short of it.
+    const Ray shadow = shadow_ray(si.p, si.ng, *ls);
     if (tracer.occluded(shadow)) return Color(0.0f);
   }
   const Color c = f * ls->li * (std::abs(glm::dot(ls->wi, si.ns)) / (ls->pdf * pmf));

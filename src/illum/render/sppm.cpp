@@ -94,7 +94,10 @@ class VisiblePointGrid {
   void for_each_candidate(const vec3& p, Fn&& fn) const {
     if (table_ == 0) return;
     const vec3 q = (p - bounds_.min) / cell_;
-    if (q.x < 0.0f || q.y < 0.0f || q.z < 0.0f) return;
+    // Compare as floats first: photons far outside the grid would overflow an int.
+    if (!(q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f) || q.x >= static_cast<float>(res_[0]) ||
+        q.y >= static_cast<float>(res_[1]) || q.z >= static_cast<float>(res_[2]))
+      return;
     const ivec3 c(static_cast<int>(q.x), static_cast<int>(q.y), static_cast<int>(q.z));
     if (c.x >= res_[0] || c.y >= res_[1] || c.z >= res_[2]) return;
     const size_t h = hash(c);
