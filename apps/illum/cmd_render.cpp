@@ -33,33 +33,13 @@ struct RenderArgs {
   bool no_preview = false;
 };
 
-// "key=value" → JSON value: true/false, integers, floats, else the string itself.
-nlohmann::json parse_value(const std::string& text) {
-  if (text == "true") return true;
-  if (text == "false") return false;
-  try {
-    size_t used = 0;
-    const long long i = std::stoll(text, &used);
-    if (used == text.size()) return i;
-    const double d = std::stod(text, &used);
-    if (used == text.size()) return d;
-  } catch (const std::exception&) {
-  }
-  return text;
-}
-
 Params integrator_params(const RenderArgs& args) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& kv : args.params) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(fmt::format("--param '{}' must look like key=value", kv));
-    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1));
-  }
+  nlohmann::json j = key_values_to_json(args.params);
   if (!args.bounces.empty()) {
-    const auto v = parse_value(args.bounces);
-    if (v.is_number_integer())
-      j["max_bounces"] = v;
+    // A number is the path-length limit; a word is a bounce mode.
+    const nlohmann::json value = key_values_to_json({"bounces=" + args.bounces})["bounces"];
+    if (value.is_number_integer())
+      j["max_bounces"] = value;
     else
       j["bounces"] = args.bounces;
   }

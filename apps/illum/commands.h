@@ -3,7 +3,11 @@
 // Handlers throw illum::Error for bad input; main() turns that into one line and exit 2.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 namespace illum::cli {
 
@@ -15,6 +19,11 @@ void add_frame_command(CLI::App& app);
 #ifdef ILLUM_HAVE_VIEW_COMMAND
 void add_view_command(CLI::App& app);
 #endif
+
+// Turns repeated `--param key=value` strings into a JSON object: true/false, integers,
+// floats and JSON arrays ("[1,2,3]") keep their type, anything else stays a string.
+// Throws Error for an item without '='.
+nlohmann::json key_values_to_json(const std::vector<std::string>& items);
 
 // Refuses an output path whose folder does not exist or whose extension is not one of the
 // image formats, before any long work starts.

@@ -13,6 +13,39 @@
 
 namespace illum::cli {
 
+namespace {
+nlohmann::json parse_value(const std::string& text) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  try {
+    size_t used = 0;
+    const long long i = std::stoll(text, &used);
+    if (used == text.size()) return i;
+    const double d = std::stod(text, &used);
+    if (used == text.size()) return d;
+  } catch (const std::exception&) {
+  }
+  if (!text.empty() && text.front() == '[') {
+    try {
+      return nlohmann::json::parse(text);
+    } catch (const std::exception&) {
+    }
+  }
+  return text;
+}
+}  // namespace
+
+nlohmann::json key_values_to_json(const std::vector<std::string>& items) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& kv : items) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error(fmt::format("--param '{}' must look like key=value", kv));
+    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1));
+  }
+  return j;
+}
+
 void check_output_path(const std::string& path) {
   image_format_from_path(path);  // throws for an unknown extension
   const auto parent = std::filesystem::path(path).parent_path();

@@ -11,26 +11,13 @@
 #include "../core/chi_square.h"
 #include "illum/core/sampling.h"
 #include "illum/render/bsdf.h"
+#include "running_stat.h"
 
 namespace illum {
 namespace {
 
-constexpr double kZ = 5.0;
-
-struct Stat {
-  double sum = 0, sum2 = 0;
-  int64_t n = 0;
-  void add(double x) {
-    sum += x;
-    sum2 += x * x;
-    ++n;
-  }
-  double mean() const { return sum / static_cast<double>(n); }
-  double stderr_() const {
-    const double m = mean();
-    return std::sqrt(std::max(sum2 / static_cast<double>(n) - m * m, 0.0) / static_cast<double>(n));
-  }
-};
+using test::kZ;
+using Stat = test::RunningStat;
 
 Material make(MaterialType type, float albedo, float specular, float exponent) {
   Material m;
@@ -92,12 +79,12 @@ TEST(Bsdf, WhiteFurnaceAndSamplingAgreeWithEvaluation) {
         ASSERT_FALSE(s->delta);
         sampled.add(s->weight.g);
       }
-      const double tol = kZ * std::hypot(uniform.stderr_(), sampled.stderr_());
+      const double tol = kZ * std::hypot(uniform.standard_error(), sampled.standard_error());
       EXPECT_NEAR(uniform.mean(), sampled.mean(), tol) << c.name << " θ=" << theta;
       // Energy conservation: albedo ≤ 1 (up to noise).
-      EXPECT_LE(uniform.mean(), 1.0 + kZ * uniform.stderr_()) << c.name << " θ=" << theta;
+      EXPECT_LE(uniform.mean(), 1.0 + kZ * uniform.standard_error()) << c.name << " θ=" << theta;
       if (c.m.type == MaterialType::kLambert) {
-        EXPECT_NEAR(uniform.mean(), c.m.albedo.g, kZ * uniform.stderr_()) << c.name;
+        EXPECT_NEAR(uniform.mean(), c.m.albedo.g, kZ * uniform.standard_error()) << c.name;
         EXPECT_NEAR(sampled.mean(), c.m.albedo.g, 1e-4) << c.name;  // exact importance sampling
       }
     }
@@ -115,9 +102,9 @@ TEST(Bsdf, PdfIntegratesToAtMostOne) {
       const vec3 wi = sample_uniform_sphere({u01(gen), u01(gen)});
       s.add(bsdf.pdf(wo, wi) / pdf_uniform_sphere());
     }
-    EXPECT_LE(s.mean(), 1.0 + kZ * s.stderr_()) << c.name;
+    EXPECT_LE(s.mean(), 1.0 + kZ * s.standard_error()) << c.name;
     if (c.m.type == MaterialType::kLambert) {
-      EXPECT_NEAR(s.mean(), 1.0, kZ * s.stderr_());
+      EXPECT_NEAR(s.mean(), 1.0, kZ * s.standard_error());
     }
   }
 }

@@ -10,26 +10,13 @@
 #include "illum/render/light_sampler.h"
 #include "illum/scene/environment.h"
 #include "render_test_scenes.h"
+#include "running_stat.h"
 
 namespace illum {
 namespace {
 
-constexpr double kZ = 5.0;
-
-struct Stat {
-  double sum = 0, sum2 = 0;
-  int64_t n = 0;
-  void add(double x) {
-    sum += x;
-    sum2 += x * x;
-    ++n;
-  }
-  double mean() const { return sum / static_cast<double>(n); }
-  double err() const {
-    const double m = mean();
-    return std::sqrt(std::max(sum2 / static_cast<double>(n) - m * m, 0.0) / static_cast<double>(n));
-  }
-};
+using test::kZ;
+using Stat = test::RunningStat;
 
 Scene base_scene() {
   Scene s;
@@ -123,7 +110,7 @@ TEST(LightSampler, AreaLightIrradianceMatchesClosedForm) {
     e.add(sample->li.g * sample->wi.y / sample->pdf);
   }
   const double expected = std::numbers::pi * 3.0 * 4.0 * rect_form_factor_corner(a / 2, b / 2, h);
-  EXPECT_NEAR(e.mean(), expected, kZ * e.err() + 1e-6 * expected);
+  EXPECT_NEAR(e.mean(), expected, kZ * e.standard_error() + 1e-6 * expected);
   // From above the light sees only its back: no light.
   EXPECT_FALSE(ls.sample_li(0, vec3(0, 2 * h, 0), {0.3f, 0.3f}));
 }
@@ -196,9 +183,9 @@ TEST(LightSampler, EnvironmentImportanceSamplingIsConsistent) {
     importance.add(sample->li.g / sample->pdf);
   }
   EXPECT_LE(pdf_mismatches, 200);
-  EXPECT_NEAR(pdf_integral.mean(), 1.0, kZ * pdf_integral.err());
-  EXPECT_NEAR(uniform.mean(), importance.mean(), kZ * std::hypot(uniform.err(), importance.err()));
-  EXPECT_LT(importance.err(), uniform.err());  // importance sampling helps on a sunny map
+  EXPECT_NEAR(pdf_integral.mean(), 1.0, kZ * pdf_integral.standard_error());
+  EXPECT_NEAR(uniform.mean(), importance.mean(), kZ * std::hypot(uniform.standard_error(), importance.standard_error()));
+  EXPECT_LT(importance.standard_error(), uniform.standard_error());  // importance sampling helps on a sunny map
 }
 
 TEST(LightSampler, EmissionCarriesEachLightsPower) {
@@ -244,7 +231,7 @@ TEST(LightSampler, EmissionCarriesEachLightsPower) {
       flux.add(em->flux.g);
     }
     const double power = ls.power(light).g;
-    EXPECT_NEAR(flux.mean(), power, kZ * flux.err() + 1e-4 * power) << "light " << light;
+    EXPECT_NEAR(flux.mean(), power, kZ * flux.standard_error() + 1e-4 * power) << "light " << light;
   }
   // Choosing by power: the mean flux is the total power.
   Stat total;
@@ -252,7 +239,7 @@ TEST(LightSampler, EmissionCarriesEachLightsPower) {
     const auto em = ls.sample_emission(u01(gen), {u01(gen), u01(gen)}, {u01(gen), u01(gen)});
     total.add(em ? em->flux.g : 0.0);
   }
-  EXPECT_NEAR(total.mean(), ls.total_power().g, kZ * total.err() + 1e-4 * ls.total_power().g);
+  EXPECT_NEAR(total.mean(), ls.total_power().g, kZ * total.standard_error() + 1e-4 * ls.total_power().g);
 }
 
 TEST(LightSampler, TexturedEmitterPowerAndEmission) {
@@ -291,7 +278,7 @@ TEST(LightSampler, TexturedEmitterPowerAndEmission) {
     ASSERT_FALSE(em->ray.origin.x > -0.37f && em->ray.origin.x < -0.13f) << em->ray.origin.x;
     flux.add(em->flux.g);
   }
-  EXPECT_NEAR(flux.mean(), ls.power(0).g, kZ * flux.err());
+  EXPECT_NEAR(flux.mean(), ls.power(0).g, kZ * flux.standard_error());
 }
 
 }  // namespace
