@@ -26,8 +26,8 @@ struct Light {
   vec4 position_range;  // xyz position, w: culling radius r (0 = none)
   vec4 direction_cos;   // xyz unit direction the light travels, w: cos of spot cutoff
   vec4 color_type;      // rgb: I (point/spot, W/sr) or E (directional, W/m²), w: type
-  ivec4 shadow;         // x: shadow slot (−1 = none), y: first cascade/face view, z: cascades
-  vec4 shadow_params;   // x: far distance of the cube map
+  ivec4 shadow;         // x: shadow slot (−1 = none), y: first cascade/face view, z: views, w: 1 = 2-D spot map
+  vec4 shadow_params;   // x: far distance of the shadow map, y: spot map tan(half field of view)
 };
 
 layout(std140, set = 0, binding = 0) uniform Frame {
@@ -60,6 +60,21 @@ layout(std430, set = 0, binding = 7) readonly buffer AmbientCubes { vec4 ambient
 
 // PRT: per-vertex SH-L1 transfer vectors (Y00, Y1−1, Y10, Y11), indexed by gl_VertexIndex.
 layout(std430, set = 0, binding = 8) readonly buffer Transfer { vec4 prt_transfer[]; };
+
+// One 2-D perspective map (frustum = the cone) per shadowed narrow spot light: layer = slot.
+layout(set = 0, binding = 9) uniform sampler2DArray spot_maps;
+
+// Octahedral unit-vector encoding (both components in [−1, 1]) for the compact G-buffer.
+vec2 oct_encode(vec3 n) {
+  n /= abs(n.x) + abs(n.y) + abs(n.z);
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return n.xy;
+}
+vec3 oct_decode(vec2 e) {
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}
 
 // Per-material textures (set 1); a white 1×1 texture where the material has none.
 layout(set = 1, binding = 0) uniform sampler2D albedo_map;

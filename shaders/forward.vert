@@ -12,6 +12,10 @@ layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec4 out_tangent;
 layout(location = 3) out vec4 out_uv;
 layout(location = 4) out vec3 out_prt;  // Σ transfer · light SH (RGB), when PRT is on
+// The depth pre-pass and the shading pass (depth EQUAL) must compute identical depths:
+// no FMA contraction that a compiler could choose differently per pipeline. (The SPIR-V
+// Invariant decoration would say more but trips the validator on block members.)
+precise gl_Position;
 
 void main() {
   vec4 world = push.model * vec4(in_position, 1.0);

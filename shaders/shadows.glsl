@@ -57,6 +57,38 @@ float cascade_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
   return lit / float(taps);
 }
 
+// Spot light with a 2-D perspective map: the map stores radial distance / far like the cube
+// faces, so bias and VSM moments are the same; outside the frustum lies outside the cone.
+float spot_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
+  Light light = lights[i];
+  int slot = light.shadow.x;
+  float far_plane = light.shadow_params.x;
+  float size = float(textureSize(spot_maps, 0).x);
+  float dist = length(p - light.position_range.xyz);
+  // World size of one texel at this distance (the map spans 2·tan(half fov) per unit depth).
+  float texel = 2.0 * light.shadow_params.y * dist / size;
+  vec3 offset_p = p + ng * texel * 1.5;
+  vec4 h = shadow_views[light.shadow.y] * vec4(offset_p, 1.0);
+  if (h.w <= 0.0) return 1.0;
+  vec2 uv = h.xy / h.w * 0.5 + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+  float t = length(offset_p - light.position_range.xyz) / far_plane;
+  if (frame.counts.z == kShadowVsm)
+    return vsm_visibility(texture(spot_maps, vec3(uv, float(slot))).rg, t);
+  float bias = frame.shadow_config.x + texel / far_plane;
+  int taps = frame.counts.w;
+  if (taps <= 1) return texture(spot_maps, vec3(uv, float(slot))).r + bias >= t ? 1.0 : 0.0;
+  float angle = 6.2831853 * hash12(pixel);
+  float cs = cos(angle), sn = sin(angle);
+  float lit = 0.0;
+  for (int k = 0; k < taps; ++k) {
+    vec2 o = kPoisson[k % 16];
+    o = vec2(cs * o.x - sn * o.y, sn * o.x + cs * o.y) * frame.shadow_config.y / size;
+    lit += texture(spot_maps, vec3(uv + o, float(slot))).r + bias >= t ? 1.0 : 0.0;
+  }
+  return lit / float(taps);
+}
+
 // Visibility in [0, 1] of light i from world point p with geometric normal ng.
 float cube_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
   Light light = lights[i];
@@ -65,6 +97,7 @@ float cube_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
   if (int(light.color_type.w) == kLightDirectional)
     return light.shadow.z > 0 ? cascade_shadow(i, p, ng, pixel) : 1.0;
   if (slot < 0) return 1.0;
+  if (light.shadow.w == 1) return spot_shadow(i, p, ng, pixel);
   vec3 dir = p - light.position_range.xyz;
   float far_plane = light.shadow_params.x;
   float dist = length(dir);

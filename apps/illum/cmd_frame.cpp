@@ -36,26 +36,6 @@ struct FrameArgs {
   std::vector<std::string> params;
 };
 
-nlohmann::json parse_value(const std::string& text) {
-  if (text == "true") return true;
-  if (text == "false") return false;
-  try {
-    size_t used = 0;
-    const long long i = std::stoll(text, &used);
-    if (used == text.size()) return i;
-    const double d = std::stod(text, &used);
-    if (used == text.size()) return d;
-  } catch (const std::exception&) {
-  }
-  if (!text.empty() && text.front() == '[') {
-    try {
-      return nlohmann::json::parse(text);
-    } catch (const std::exception&) {
-    }
-  }
-  return text;
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -68,13 +48,7 @@ void run_frame(const FrameArgs& args) {
   if (args.frames < 1) throw Error(fmt::format("--frames {} must be ≥ 1", args.frames));
   if (args.warmup < 0) throw Error(fmt::format("--warmup {} must be ≥ 0", args.warmup));
 
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& kv : args.params) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(fmt::format("--param '{}' must look like key=value", kv));
-    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1));
-  }
+  nlohmann::json j = key_values_to_json(args.params);
   const Scene scene = load_scene(args.scene);
   j["technique"] = args.technique;
   j["shadows"] = args.shadows;
@@ -199,7 +173,7 @@ void add_frame_command(CLI::App& app) {
       "-p,--param", args->params,
       "renderer option key=value (repeatable): shadow_resolution, pcf_taps, pcf_radius, "
       "shadow_bias, vsm_tau, shadow_update_period, half_lambert, ambient=[r,g,b], key, "
-      "bloom_strength, bloom_threshold");
+      "bloom_strength, bloom_threshold, deferred_lighting=compute|volumes");
   cmd->callback([args] { run_frame(*args); });
 }
 

@@ -175,6 +175,24 @@ TEST_F(CliTest, ZeroSamplesAndAbsurdResolution) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Ctrl-C during a long render: exit 130, no output file, for a tile integrator and for the
+// photon-based ones, whose loops are not tiles.
+TEST_F(CliTest, InterruptStopsCleanlyWithoutOutput) {
+  for (const std::string integrator : {"path", "sppm", "photon"}) {
+    const fs::path out = dir_ / ("int-" + integrator + ".png");
+    const std::string params = integrator == "sppm"     ? "-p iterations=1000000"
+                               : integrator == "photon" ? "-p photons=100000000"
+                                                        : "--spp 1000000";
+    const std::string cmd = "sh -c '" + std::string(ILLUM_BINARY_DIR) + "/bin/illum render cornell -i " +
+                            integrator + " " + params + " -o " + out.string() +
+                            " 2>/dev/null & pid=$!; sleep 1; kill -INT $pid; wait $pid'";
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << integrator;
+    EXPECT_EQ(WEXITSTATUS(status), 130) << integrator;
+    EXPECT_FALSE(fs::exists(out)) << integrator;
+  }
+}
+
 TEST_F(CliTest, NoSubcommand) {
   const auto r = run("");
   EXPECT_EQ(r.exit_code, 2);

@@ -160,6 +160,49 @@ TEST_F(RealtimeTest, PassesAreTimedAndShadowMapsRunOnlyOnChange) {
   }
 }
 
+// `illum view` changes per-frame values in place: the frame after set_options() must equal
+// a frame from a renderer built with those options, and structural changes are refused.
+TEST_F(RealtimeTest, SetOptionsMatchesAFreshRenderer) {
+  const Scene scene = test::cornell_point_light();
+  RendererOptions o;
+  o.width = o.height = 32;
+  o.shadow_resolution = 32;
+  o.bloom_strength = 0.2f;
+  Renderer live(context(), scene, o);
+  live.render(*scene.camera);
+  const Image before = live.ldr();
+  RendererOptions changed = o;
+  changed.ambient = Color(0.3f);
+  changed.half_lambert = true;
+  changed.pcf_taps = 4;
+  changed.pcf_radius = 3.0f;
+  changed.tone_mapper = ToneMapOp::kReinhard;
+  changed.auto_exposure = false;
+  changed.exposure = 2.0f;
+  changed.bloom_strength = 0.5f;
+  changed.bloom_threshold = 0.5f;
+  ASSERT_TRUE(live.set_options(changed));
+  live.render(*scene.camera);
+  Renderer fresh(context(), scene, changed);
+  fresh.render(*scene.camera);
+  const Image a = live.ldr(), b = fresh.ldr();
+  double max_diff = 0.0, change = 0.0;
+  for (size_t i = 0; i < a.data().size(); ++i) {
+    max_diff = std::max<double>(max_diff, std::abs(a.data()[i] - b.data()[i]));
+    change = std::max<double>(change, std::abs(a.data()[i] - before.data()[i]));
+  }
+  // Same inputs, same device: the same bytes.
+  EXPECT_LE(max_diff, 1e-6);
+  EXPECT_GT(change, 0.1);  // and the image did change
+  RendererOptions structural = changed;
+  structural.technique = Technique::kDeferred;
+  EXPECT_FALSE(live.set_options(structural));
+  structural = changed;
+  structural.bloom_strength = 0.0f;  // bloom passes exist only when it is on
+  EXPECT_FALSE(live.set_options(structural));
+  EXPECT_EQ(live.options().technique, Technique::kForward);
+}
+
 TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
   const Scene scene = test::cornell_point_light();
   for (ToneMapOp op :
@@ -212,10 +255,11 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   second.intensity = Color(0.2f, 0.3f, 0.5f);
   second.range = 0.6f;  // exercises the light-volume path and the radius window
   scene.lights.push_back(second);
-  auto render = [&](Technique t) {
+  auto render = [&](Technique t, DeferredLighting lighting = DeferredLighting::kCompute) {
     RendererOptions o;
     o.width = o.height = kSize;
     o.technique = t;
+    o.deferred_lighting = lighting;
     o.shadows = ShadowMode::kMap;
     o.shadow_resolution = 256;
     Renderer r(context(), scene, o);
@@ -223,7 +267,6 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
     return r.hdr();
   };
   const Image forward = render(Technique::kForward);
-  const Image deferred = render(Technique::kDeferred);
   const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
   std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
   // Geometry edges only (shadows are identical lookups in both paths).
@@ -240,10 +283,15 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
   mean /= kSize * kSize;
-  const Agreement a = compare(deferred, forward, edge, 0.01f, 0.01f * static_cast<float>(mean));
-  std::printf("deferred vs forward: %.4f of %zu pixels within 1%% (mean rel %.5f)\n",
-              static_cast<double>(a.within) / a.compared, a.compared, a.mean_rel);
-  EXPECT_GE(static_cast<double>(a.within) / a.compared, 0.99);
+  // Both deferred lighting paths: the compute pass and the light volumes (stencil trick).
+  for (const DeferredLighting lighting : {DeferredLighting::kCompute, DeferredLighting::kVolumes}) {
+    const char* name = lighting == DeferredLighting::kCompute ? "compute" : "volumes";
+    const Image deferred = render(Technique::kDeferred, lighting);
+    const Agreement a = compare(deferred, forward, edge, 0.01f, 0.01f * static_cast<float>(mean));
+    std::printf("deferred (%s) vs forward: %.4f of %zu pixels within 1%% (mean rel %.5f)\n", name,
+                static_cast<double>(a.within) / a.compared, a.compared, a.mean_rel);
+    EXPECT_GE(static_cast<double>(a.within) / a.compared, 0.99) << name;
+  }
 }
 
 }  // namespace

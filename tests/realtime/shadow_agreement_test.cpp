@@ -27,7 +27,8 @@ gpu::Context& context() {
 
 // Ray-traced mask: 1 where the first light is blocked or behind the surface; surface ids per
 // pixel for the edge band.
-test::Reference ray_traced_mask(const Scene& scene) {
+// `blocked` counts the pixels lit but for an occluder (the shadows proper).
+test::Reference ray_traced_mask(const Scene& scene, size_t* blocked = nullptr) {
   const RayTracer tracer(scene);
   test::Reference ref;
   ref.surface.assign(kSize * kSize, -1);
@@ -47,7 +48,10 @@ test::Reference ray_traced_mask(const Scene& scene) {
       const vec3 to = directional ? -glm::normalize(light.direction) : light.position - si.p;
       const float dist = directional ? kInf : glm::length(to);
       const vec3 l = directional ? to : to / dist;
-      if (glm::dot(ng, l) <= 0.0f) {
+      // Outside a spot light's cone counts as shadowed (unlit in both renders).
+      const bool outside_cone = light.type == LightType::kSpot &&
+                                glm::dot(-l, glm::normalize(light.direction)) < light.cos_cutoff();
+      if (glm::dot(ng, l) <= 0.0f || outside_cone) {
         ref.shadowed[i] = 1;
         continue;
       }
@@ -56,6 +60,7 @@ test::Reference ray_traced_mask(const Scene& scene) {
       shadow.direction = l;
       shadow.tmax = directional ? kInf : dist * (1.0f - 1e-4f);
       ref.shadowed[i] = tracer.occluded(shadow) ? 1 : 0;
+      if (blocked) *blocked += ref.shadowed[i];
     }
   return ref;
 }
@@ -86,7 +91,9 @@ std::vector<uint8_t> gpu_mask(const Image& shadowed, const Image& unshadowed) {
 
 void check_agreement(const Scene& scene) {
   const size_t before = context().validation_message_count();
-  const test::Reference ref = ray_traced_mask(scene);
+  size_t blocked = 0;
+  const test::Reference ref = ray_traced_mask(scene, &blocked);
+  ASSERT_GT(blocked, static_cast<size_t>(kSize * kSize / 50)) << "the test needs cast shadows";
   const std::vector<uint8_t> edge = test::edge_mask(ref, kSize, kSize, 1);
   size_t shadowed_pixels = 0;
   for (uint8_t s : ref.shadowed) shadowed_pixels += s;
@@ -121,6 +128,18 @@ void check_agreement(const Scene& scene) {
 
 TEST(ShadowAgreement, PointLightVolumesCubeMapsAndRayTracedMaskAgree) {
   check_agreement(test::cornell_point_light());
+}
+
+// A narrow spot light (one 2-D perspective shadow map instead of a cube) at the point
+// light's position, aimed down past the blocks.
+TEST(ShadowAgreement, SpotLightVolumesSpotMapAndRayTracedMaskAgree) {
+  Scene scene = test::cornell_point_light();
+  Light& spot = scene.lights[0];
+  spot.type = LightType::kSpot;
+  spot.direction = glm::normalize(vec3(0.1f, -1.0f, 0.15f));
+  spot.cone_half_angle = radians(55.0f);
+  ASSERT_LE(spot.cone_half_angle, kMaxSpotMapHalfAngle) << "the test must use a 2-D spot map";
+  check_agreement(scene);
 }
 
 // A roofless box under a directional light: cascaded shadow maps and volumes with caps at

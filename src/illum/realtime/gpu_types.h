@@ -59,5 +59,9 @@ struct Vertex {
 static_assert(sizeof(Vertex) == 56);
 
 inline constexpr int kMaxShadowCubes = 8;
+inline constexpr int kMaxSpotMaps = 16;
+// Spot lights up to this cone half-angle get a 2-D perspective shadow map; wider ones
+// (e.g. area lights as hemispherical spots) keep a cube map.
+inline constexpr float kMaxSpotMapHalfAngle = 1.0471976f;  // 60°
 
 }  // namespace illum::realtime

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "illum/core/color.h"
+#include "illum/core/log.h"
 #include "illum/gpu/buffer.h"
 #include "illum/gpu/descriptors.h"
 #include "illum/gpu/gpu_image.h"
@@ -41,6 +42,12 @@ Technique technique_from_string(const std::string& name) {
   throw Error(fmt::format("unknown technique '{}' (known: forward, deferred)", name));
 }
 
+DeferredLighting deferred_lighting_from_string(const std::string& name) {
+  if (name == "compute") return DeferredLighting::kCompute;
+  if (name == "volumes") return DeferredLighting::kVolumes;
+  throw Error(fmt::format("unknown deferred_lighting '{}' (known: compute, volumes)", name));
+}
+
 RendererOptions RendererOptions::from_params(const Params& p) {
   RendererOptions o;
   o.width = p.get_int_in("width", o.width, 1, 16384);
@@ -63,6 +70,8 @@ RendererOptions RendererOptions::from_params(const Params& p) {
   o.key = p.get_float_in("key", o.key, 1e-4f, 10.0f);
   o.bloom_strength = p.get_float_in("bloom_strength", o.bloom_strength, 0.0f, 100.0f);
   o.bloom_threshold = p.get_float_in("bloom_threshold", o.bloom_threshold, 0.0f, 1e6f);
+  if (p.has("deferred_lighting"))
+    o.deferred_lighting = deferred_lighting_from_string(p.get<std::string>("deferred_lighting"));
   return o;
 }
 
@@ -70,8 +79,14 @@ namespace {
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kLdrFormat = VK_FORMAT_R8G8B8A8_UNORM;
+// Shadow maps hold distance/far and, for VSM only, its square: PCF needs half the bytes.
 constexpr VkFormat kShadowFormat = VK_FORMAT_R32G32_SFLOAT;
+constexpr VkFormat kShadowPcfFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kShadowDepthFormat = VK_FORMAT_D32_SFLOAT;
+// Compact G-buffer, 20 bytes a pixel plus the HDR target (was 28 + 8 in four fp16 targets).
+constexpr VkFormat kGbufferAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // albedo, exponent
+constexpr VkFormat kGbufferNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // 2 octahedral normals
+constexpr VkFormat kGbufferSpecularFormat = VK_FORMAT_R8G8B8A8_UNORM;     // ks, material type
 
 gpu::VertexInput mesh_vertex_input(bool position_only) {
   gpu::VertexInput in;
@@ -221,6 +236,10 @@ struct Renderer::Impl {
   static constexpr int kCascades = 4;
   glm::vec4 cascade_half_widths{0.0f};
   std::vector<int> shadow_lights;  // light index of each cube
+  // Narrow spot lights get one 2-D perspective map (the cone's frustum) instead of 6 faces.
+  GpuImage spot_maps;            // 2D array, one layer per entry of spot_lights
+  std::vector<int> spot_lights;  // light index of each spot map
+  int cascade_view_offset = 0;   // first cascade's entry in shadow_views
   gpu::Buffer frame_ubo, lights_buffer, shadow_views, luminance;
   gpu::Sampler linear, nearest, clamp_linear;
   gpu::DescriptorAllocator descriptors;
@@ -229,13 +248,15 @@ struct Renderer::Impl {
   std::vector<VkDescriptorSet> material_sets;
   gpu::PipelineLayout scene_pipeline_layout, tonemap_pipeline_layout;
   gpu::Pipeline forward, shadow_cube, luminance_pipe, reduce_pipe, tonemap_pipe;
+  gpu::Pipeline depth_prepass;  // forward: depth only, then shading with depth EQUAL
   gpu::Pipeline volume_stencil, volume_light;
   // Deferred path.
-  GpuImage g_albedo, g_normal, g_geometry, g_specular;
+  GpuImage g_albedo, g_normal, g_specular;  // compact: see shaders/gbuffer.glsl
   gpu::DescriptorSetLayout gbuffer_layout;
   VkDescriptorSet gbuffer_set = VK_NULL_HANDLE;
   gpu::PipelineLayout deferred_pipeline_layout;
   gpu::Pipeline gbuffer_pipe, light_stencil_pipe, light_volume_pipe, light_fullscreen_pipe;
+  gpu::Pipeline light_compute_pipe, gbuffer_prepass;
   gpu::Buffer sphere_vertices, sphere_indices;
   uint32_t sphere_index_count = 0;
   // Stencil shadow volumes: CPU-built geometry for every light, one host-visible buffer.
@@ -269,6 +290,7 @@ struct Renderer::Impl {
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
   uint64_t frame_index = 0;
+  mat4 view_proj{1.0f};  // this frame's camera
   std::vector<gpu::PassTime> times;
 
   Impl(gpu::Context& c, const Scene& s, const RendererOptions& o)
@@ -320,7 +342,10 @@ struct Renderer::Impl {
     d.height = height;
     d.format = kHdrFormat;
     d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-              VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+              VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    // Storage only for the deferred compute lighting: some GPUs drop colour-target
+    // compression on storage-capable images.
+    if (options.technique == Technique::kDeferred) d.usage |= VK_IMAGE_USAGE_STORAGE_BIT;
     hdr = GpuImage(context, d);
     d.format = kLdrFormat;
     d.usage =
@@ -334,14 +359,14 @@ struct Renderer::Impl {
     if (options.technique == Technique::kDeferred) {
       gpu::ImageDesc g = d;
       g.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-      g.format = VK_FORMAT_R8G8B8A8_UNORM;
+      g.format = kGbufferSpecularFormat;
       g_specular = GpuImage(context, g);
       // Albedo in fp16: 8 bits would cost dark channels (0.065 red-wall green) several
       // percent and break agreement with the forward path.
-      g.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+      g.format = kGbufferAlbedoFormat;
       g_albedo = GpuImage(context, g);
+      g.format = kGbufferNormalFormat;
       g_normal = GpuImage(context, g);
-      g_geometry = GpuImage(context, g);
       std::vector<vec3> sp;
       std::vector<uint32_t> si;
       icosphere(&sp, &si);
@@ -385,20 +410,34 @@ struct Renderer::Impl {
 
     if (options.shadows == ShadowMode::kMap || options.shadows == ShadowMode::kVsm) {
       const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
-      for (size_t i = 0; i < lights.size() && shadow_lights.size() < kMaxShadowCubes; ++i)
-        if (lights[i].type == LightType::kPoint || lights[i].type == LightType::kSpot)
-          shadow_lights.push_back(static_cast<int>(i));
+      for (size_t i = 0; i < lights.size(); ++i) {
+        const Light& l = lights[i];
+        if (l.type == LightType::kSpot && l.cone_half_angle <= kMaxSpotMapHalfAngle) {
+          if (spot_lights.size() < kMaxSpotMaps) spot_lights.push_back(static_cast<int>(i));
+        } else if (l.type == LightType::kPoint || l.type == LightType::kSpot) {
+          if (shadow_lights.size() < kMaxShadowCubes) shadow_lights.push_back(static_cast<int>(i));
+        }
+      }
       for (size_t i = 0; i < lights.size() && cascade_light < 0; ++i)
         if (lights[i].type == LightType::kDirectional) cascade_light = static_cast<int>(i);
       if (cascade_light >= 0) {
         gpu::ImageDesc c;
         c.width = c.height = r;
         c.layers = kCascades;
-        c.format = kShadowFormat;
+        c.format = shadow_format();
         c.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
         cascades = GpuImage(context, c);
       }
-      if (!shadow_lights.empty() || cascade_light >= 0) {
+      if (!spot_lights.empty()) {
+        gpu::ImageDesc c;
+        c.width = c.height = r;
+        c.layers = static_cast<uint32_t>(spot_lights.size());
+        c.array = true;
+        c.format = shadow_format();
+        c.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+        spot_maps = GpuImage(context, c);
+      }
+      if (!shadow_lights.empty() || !spot_lights.empty() || cascade_light >= 0) {
         gpu::ImageDesc sd;
         sd.width = sd.height = r;
         sd.format = kShadowDepthFormat;
@@ -411,11 +450,15 @@ struct Renderer::Impl {
         c.layers = static_cast<uint32_t>(6 * shadow_lights.size());
         c.cube = true;
         c.cube_array = true;
-        c.format = kShadowFormat;
+        c.format = shadow_format();
         c.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
         shadow_cubes = GpuImage(context, c);
       }
     }
+  }
+
+  VkFormat shadow_format() const {
+    return options.shadows == ShadowMode::kVsm ? kShadowFormat : kShadowPcfFormat;
   }
 
   float shadow_far(const Light& l) const {
@@ -467,6 +510,21 @@ struct Renderer::Impl {
       for (int f = 0; f < 6; ++f)
         views.push_back(proj * glm::lookAtRH(l.position, l.position + axes[f], ups[f]));
     }
+    for (size_t s = 0; s < spot_lights.size(); ++s) {
+      const Light& l = lights[static_cast<size_t>(spot_lights[s])];
+      GpuLight& g = gl[static_cast<size_t>(spot_lights[s])];
+      g.shadow = glm::ivec4(static_cast<int>(s), static_cast<int>(views.size()), 1, 1);
+      const float far_plane = g.shadow_params.x;
+      // A few degrees beyond the cone so PCF taps and the normal offset stay on the map.
+      const float half_fov = std::min(l.cone_half_angle + radians(4.0f), radians(80.0f));
+      const float tan_half = std::tan(half_fov);
+      g.shadow_params.y = tan_half;
+      const vec3 dir = glm::normalize(l.direction);
+      const vec3 up = std::abs(dir.y) > 0.99f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+      const mat4 proj = glm::perspectiveRH_ZO(2.0f * half_fov, 1.0f, far_plane * 1e-4f, far_plane);
+      views.push_back(proj * glm::lookAtRH(l.position, l.position + dir, up));
+    }
+    cascade_view_offset = static_cast<int>(views.size());
     if (cascade_light >= 0) {
       GpuLight& g = gl[static_cast<size_t>(cascade_light)];
       g.shadow = glm::ivec4(-1, static_cast<int>(views.size()), kCascades, 0);
@@ -486,8 +544,9 @@ struct Renderer::Impl {
     const size_t nl = std::max<size_t>(1, lights.size());
     lights_buffer = gpu::Buffer(context, nl * sizeof(GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 gpu::MemoryUsage::kUpload);
-    shadow_views = gpu::Buffer(context, (6 * shadow_lights.size() + kCascades) * sizeof(glm::mat4),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+    shadow_views = gpu::Buffer(
+        context, (6 * shadow_lights.size() + spot_lights.size() + kCascades) * sizeof(glm::mat4),
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
     tiles_x = (width + 15) / 16;
     tiles_y = (height + 15) / 16;
     luminance = gpu::Buffer(context, (tiles_x * tiles_y + 1) * sizeof(float),
@@ -507,7 +566,7 @@ struct Renderer::Impl {
          B{4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
          B{5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
          B{6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}, B{7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-         B{8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}});
+         B{8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, B{9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}});
     frame_set = descriptors.allocate(frame_layout);
     material_layout =
         gpu::DescriptorSetLayout(context, {B{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
@@ -528,6 +587,8 @@ struct Renderer::Impl {
             shadow_sampler, ro);
     w.image(frame_set, 5, cis, cascades ? cascades.view() : dummy_array.view(), shadow_sampler, ro);
     w.image(frame_set, 6, cis, dummy_array.view(), clamp_linear.handle(), ro);
+    w.image(frame_set, 9, cis, spot_maps ? spot_maps.view() : dummy_array.view(), shadow_sampler,
+            ro);
     ambient_cubes = gpu::Buffer(context, 6 * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 gpu::MemoryUsage::kUpload);
     w.buffer(frame_set, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, ambient_cubes.handle());
@@ -554,15 +615,18 @@ struct Renderer::Impl {
     w.commit(context.device());
 
     if (g_albedo) {
+      // Binding 4 (the HDR target as a storage image) is used by the compute lighting only.
       gbuffer_layout = gpu::DescriptorSetLayout(
-          context, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis}, B{4, cis}});
+          context,
+          {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis}, B{4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}});
       gbuffer_set = descriptors.allocate(gbuffer_layout);
       w.image(gbuffer_set, 0, cis, g_albedo.view(), nearest.handle(), ro)
           .image(gbuffer_set, 1, cis, g_normal.view(), nearest.handle(), ro)
-          .image(gbuffer_set, 2, cis, g_geometry.view(), nearest.handle(), ro)
-          .image(gbuffer_set, 3, cis, g_specular.view(), nearest.handle(), ro)
-          .image(gbuffer_set, 4, cis, depth.view(), nearest.handle(),
+          .image(gbuffer_set, 2, cis, g_specular.view(), nearest.handle(), ro)
+          .image(gbuffer_set, 3, cis, depth.view(), nearest.handle(),
                  VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
+          .image(gbuffer_set, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, hdr.view(), VK_NULL_HANDLE,
+                 VK_IMAGE_LAYOUT_GENERAL)
           .commit(context.device());
     }
     tonemap_layout =
@@ -603,14 +667,25 @@ struct Renderer::Impl {
     fwd.color_formats = {kHdrFormat};
     fwd.depth_format = depth_format;
     fwd.stencil_format = depth_format;
+    // Depth pre-pass: the same vertex shader and inputs (so depths repeat exactly), no
+    // fragment shader; the shading pass then runs each pixel's fragment shader once, where
+    // Sibenik's nave would otherwise shade every overlapping layer.
+    gpu::GraphicsPipelineDesc pre = fwd;
+    pre.fragment_shader = "";
+    pre.color_write = false;
+    depth_prepass = gpu::Pipeline(context, scene_pipeline_layout.handle(), pre);
+    fwd.depth_write = false;
+    fwd.depth_compare = VK_COMPARE_OP_EQUAL;
     forward = gpu::Pipeline(context, scene_pipeline_layout.handle(), fwd);
-    if (shadow_cubes) {
+    fwd.depth_write = true;
+    fwd.depth_compare = VK_COMPARE_OP_LESS;
+    if (shadow_cubes || spot_maps) {
       gpu::GraphicsPipelineDesc sh;
       sh.vertex_shader = "shadow_cube.vert";
       sh.fragment_shader = "shadow_cube.frag";
       sh.vertex_input = mesh_vertex_input(true);
       sh.cull = VK_CULL_MODE_NONE;
-      sh.color_formats = {kShadowFormat};
+      sh.color_formats = {shadow_format()};
       sh.depth_format = kShadowDepthFormat;
       shadow_cube = gpu::Pipeline(context, scene_pipeline_layout.handle(), sh);
     }
@@ -621,7 +696,7 @@ struct Renderer::Impl {
       sh.vertex_input = mesh_vertex_input(true);
       sh.cull = VK_CULL_MODE_NONE;
       sh.depth_clamp = context.depth_clamp();  // casters behind the cascade's near plane
-      sh.color_formats = {kShadowFormat};
+      sh.color_formats = {shadow_format()};
       sh.depth_format = kShadowDepthFormat;
       shadow_dir = gpu::Pipeline(context, scene_pipeline_layout.handle(), sh);
     }
@@ -631,9 +706,18 @@ struct Renderer::Impl {
           sizeof(PushConstants));
       gpu::GraphicsPipelineDesc g = fwd;
       g.fragment_shader = "gbuffer.frag";
-      g.color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT,
-                         VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM, kHdrFormat};
+      g.color_formats = {kGbufferAlbedoFormat, kGbufferNormalFormat, kGbufferSpecularFormat,
+                         kHdrFormat};
+      // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
+      gpu::GraphicsPipelineDesc g_pre = g;
+      g_pre.fragment_shader = "";
+      g_pre.color_write = false;
+      gbuffer_prepass = gpu::Pipeline(context, deferred_pipeline_layout.handle(), g_pre);
+      g.depth_write = false;
+      g.depth_compare = VK_COMPARE_OP_EQUAL;
       gbuffer_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), g);
+      light_compute_pipe =
+          gpu::Pipeline(context, deferred_pipeline_layout.handle(), "deferred_light.comp");
       gpu::GraphicsPipelineDesc l;
       l.vertex_shader = "deferred_light.vert";
       l.fragment_shader = "deferred_light.frag";
@@ -777,36 +861,49 @@ struct Renderer::Impl {
     }
   }
 
-  void record_shadow_maps(VkCommandBuffer c) {
+  // One view of the scene into one layer of `target` (radial distance / far; VSM: its square).
+  void record_shadow_view(VkCommandBuffer c, GpuImage& target, uint32_t layer, int view,
+                          int light) {
     const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
-    GpuImage& cube = shadow_cubes;
-    cube.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
-    for (size_t s = 0; s < shadow_lights.size(); ++s) {
-      for (uint32_t f = 0; f < 6; ++f) {
-        shadow_depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
-                                kDepthAccess);
-        VkRenderingAttachmentInfo color = color_attachment(
-            cube.layer_view(static_cast<uint32_t>(6 * s + f)), true, {{1.0f, 1.0f, 0.0f, 0.0f}});
-        VkRenderingAttachmentInfo depth_att = depth_attachment(shadow_depth.view(), true);
-        depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        info.renderArea = {{0, 0}, {r, r}};
-        info.layerCount = 1;
-        info.colorAttachmentCount = 1;
-        info.pColorAttachments = &color;
-        info.pDepthAttachment = &depth_att;
-        vkCmdBeginRendering(c, &info);
-        set_viewport(c, r, r);
-        bind_scene(c, shadow_cube.handle());
-        PushConstants push{};
-        push.view_index = static_cast<int>(6 * s + f);
-        push.light_index = shadow_lights[s];
-        draw_scene(c, push, false);
-        vkCmdEndRendering(c);
-      }
+    shadow_depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
+                            kDepthAccess);
+    VkRenderingAttachmentInfo color =
+        color_attachment(target.layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}});
+    VkRenderingAttachmentInfo depth_att = depth_attachment(shadow_depth.view(), true);
+    depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, {r, r}};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth_att;
+    vkCmdBeginRendering(c, &info);
+    set_viewport(c, r, r);
+    bind_scene(c, shadow_cube.handle());
+    PushConstants push{};
+    push.view_index = view;
+    push.light_index = light;
+    draw_scene(c, push, false);
+    vkCmdEndRendering(c);
+  }
+
+  void record_shadow_maps(VkCommandBuffer c) {
+    for (GpuImage* target : {&shadow_cubes, &spot_maps}) {
+      if (!*target) continue;
+      target->transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
     }
-    cube.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kSampleStage,
-                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    for (size_t s = 0; s < shadow_lights.size(); ++s)
+      for (uint32_t f = 0; f < 6; ++f)
+        record_shadow_view(c, shadow_cubes, static_cast<uint32_t>(6 * s + f),
+                           static_cast<int>(6 * s + f), shadow_lights[s]);
+    for (size_t s = 0; s < spot_lights.size(); ++s)
+      record_shadow_view(c, spot_maps, static_cast<uint32_t>(s),
+                         static_cast<int>(6 * shadow_lights.size() + s), spot_lights[s]);
+    for (GpuImage* target : {&shadow_cubes, &spot_maps}) {
+      if (!*target) continue;
+      target->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kSampleStage,
+                         VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    }
   }
 
   void record_cascades(VkCommandBuffer c) {
@@ -829,7 +926,7 @@ struct Renderer::Impl {
       set_viewport(c, r, r);
       bind_scene(c, shadow_dir.handle());
       PushConstants push{};
-      push.view_index = static_cast<int>(6 * shadow_lights.size()) + k;
+      push.view_index = cascade_view_offset + k;
       push.light_index = cascade_light;
       draw_scene(c, push, false);
       vkCmdEndRendering(c);
@@ -899,39 +996,65 @@ struct Renderer::Impl {
     info.pStencilAttachment = &depth_att;
     vkCmdBeginRendering(c, &info);
     set_viewport(c, width, height);
-    bind_scene(c, forward.handle());
     PushConstants push{};
     push.pad = volume_builder ? 1 : 0;
+    bind_scene(c, depth_prepass.handle());
+    draw_scene(c, push, true);
+    bind_scene(c, forward.handle());
     draw_scene(c, push, true);
     vkCmdEndRendering(c);
   }
 
   void record_gbuffer(VkCommandBuffer c) {
-    for (GpuImage* g : {&g_albedo, &g_normal, &g_geometry, &g_specular, &hdr})
+    for (GpuImage* g : {&g_albedo, &g_normal, &g_specular, &hdr})
       g->transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
     depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
                      kDepthAccess);
-    const VkRenderingAttachmentInfo colors[5] = {
+    const VkRenderingAttachmentInfo colors[4] = {
         color_attachment(g_albedo.view(), true), color_attachment(g_normal.view(), true),
-        color_attachment(g_geometry.view(), true), color_attachment(g_specular.view(), true),
-        color_attachment(hdr.view(), true)};
+        color_attachment(g_specular.view(), true), color_attachment(hdr.view(), true)};
     VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), true);
     VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
     info.renderArea = {{0, 0}, {width, height}};
     info.layerCount = 1;
-    info.colorAttachmentCount = 5;
+    info.colorAttachmentCount = 4;
     info.pColorAttachments = colors;
     info.pDepthAttachment = &depth_att;
     info.pStencilAttachment = &depth_att;
     vkCmdBeginRendering(c, &info);
     set_viewport(c, width, height);
+    bind_scene(c, gbuffer_prepass.handle());
+    draw_scene(c, PushConstants{}, true);
     bind_scene(c, gbuffer_pipe.handle());
     draw_scene(c, PushConstants{}, true);
     vkCmdEndRendering(c);
   }
 
+  // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
+  void record_compute_lighting(VkCommandBuffer c) {
+    const VkPipelineStageFlags2 cs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    for (GpuImage* g : {&g_albedo, &g_normal, &g_specular})
+      g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cs,
+                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL, cs,
+                     VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    hdr.transition(c, VK_IMAGE_LAYOUT_GENERAL, cs,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    const VkPipelineLayout layout = deferred_pipeline_layout.handle();
+    const VkDescriptorSet sets[3] = {frame_set, material_sets[0], gbuffer_set};
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 3, sets, 0, nullptr);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, light_compute_pipe.handle());
+    const PushConstants push{};
+    vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    vkCmdDispatch(c, (width + 7) / 8, (height + 7) / 8, 1);
+  }
+
   void record_deferred_lighting(VkCommandBuffer c) {
-    for (GpuImage* g : {&g_albedo, &g_normal, &g_geometry, &g_specular})
+    if (options.deferred_lighting == DeferredLighting::kCompute) {
+      record_compute_lighting(c);
+      return;
+    }
+    for (GpuImage* g : {&g_albedo, &g_normal, &g_specular})
       g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     hdr.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
@@ -1026,8 +1149,51 @@ struct Renderer::Impl {
     total.build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     volume_stats = total;
+    log::debug("shadow volumes: {} casters, {} silhouette edges, {} triangles, {:.1f} ms",
+               total.caster_triangles, total.silhouette_edges, total.volume_triangles,
+               total.build_ms);
     silhouette_ms = total.build_ms;
     volumes_dirty = false;
+  }
+
+  // Pixels that can see a spot light's cone within the scene bounds (and its range): the
+  // screen box of the frustum apex + cone cross-section at the farthest reach, which holds
+  // every lit point. Elsewhere the light adds nothing, so its volumes need no stencil there.
+  // Full screen for other lights or when the frustum reaches behind the camera.
+  VkRect2D light_scissor(const Light& l) const {
+    const VkRect2D full{{0, 0}, {width, height}};
+    if (l.type != LightType::kSpot || l.cone_half_angle >= radians(80.0f)) return full;
+    const Bounds3 b = scene.bounds();
+    float reach = 0.0f;
+    for (int k = 0; k < 8; ++k) {
+      const vec3 corner(k & 1 ? b.max.x : b.min.x, k & 2 ? b.max.y : b.min.y,
+                        k & 4 ? b.max.z : b.min.z);
+      reach = std::max(reach, glm::length(corner - l.position));
+    }
+    if (l.range > 0.0f) reach = std::min(reach, l.range);
+    const vec3 dir = glm::normalize(l.direction);
+    const vec3 u =
+        glm::normalize(glm::cross(std::abs(dir.y) < 0.99f ? vec3(0, 1, 0) : vec3(1, 0, 0), dir));
+    const vec3 w = glm::cross(dir, u);
+    const float half = reach * std::tan(l.cone_half_angle) * 1.01f;
+    const vec3 points[5] = {l.position, l.position + dir * reach + (u + w) * half,
+                            l.position + dir * reach + (u - w) * half,
+                            l.position + dir * reach - (u + w) * half,
+                            l.position + dir * reach - (u - w) * half};
+    vec2 lo(1e30f), hi(-1e30f);
+    for (const vec3& p : points) {
+      const vec4 h = view_proj * vec4(p, 1.0f);
+      if (h.w <= 1e-6f) return full;
+      const vec2 ndc = vec2(h) / h.w;
+      lo = glm::min(lo, ndc);
+      hi = glm::max(hi, ndc);
+    }
+    const vec2 size(static_cast<float>(width), static_cast<float>(height));
+    const vec2 p0 = glm::clamp(glm::floor((lo * 0.5f + 0.5f) * size) - 1.0f, vec2(0.0f), size);
+    const vec2 p1 = glm::clamp(glm::ceil((hi * 0.5f + 0.5f) * size) + 1.0f, vec2(0.0f), size);
+    if (p1.x <= p0.x || p1.y <= p0.y) return {{0, 0}, {1, 1}};  // the cone is off screen
+    return {{static_cast<int32_t>(p0.x), static_cast<int32_t>(p0.y)},
+            {static_cast<uint32_t>(p1.x - p0.x), static_cast<uint32_t>(p1.y - p0.y)}};
   }
 
   // Per light: stencil = z-fail count of its volumes, then the light's contribution added
@@ -1051,6 +1217,8 @@ struct Renderer::Impl {
       const uint32_t stencil_scope = timer.begin(c, "stencil_volumes");
       vkCmdBeginRendering(c, &info);
       set_viewport(c, width, height);
+      const VkRect2D scissor = light_scissor(lights[i]);
+      vkCmdSetScissor(c, 0, 1, &scissor);
       const auto [first, count] = volume_ranges[i];
       if (count > 0) {
         vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, volume_stencil.handle());
@@ -1166,7 +1334,7 @@ struct Renderer::Impl {
                       [this](VkCommandBuffer c) { record_cascades(c); }});
     else
       graph.import_resource("cascades");
-    if (shadow_cubes) {
+    if (shadow_cubes || spot_maps) {
       PassDesc p{"shadow_maps",
                  {"scene", "lights"},
                  {"shadow_cubes"},
@@ -1246,12 +1414,14 @@ struct Renderer::Impl {
     u.view = camera.view_matrix();
     u.proj = camera.projection_matrix(aspect, near_plane, far_plane);
     u.view_proj = u.proj * u.view;
+    view_proj = u.view_proj;
     u.inv_view_proj = glm::inverse(u.view_proj);
     u.camera_pos = vec4(camera.position, 0.0f);
     u.ambient = vec4(options.ambient, 0.0f);
-    u.counts = glm::ivec4(static_cast<int>(lights.size()), options.half_lambert ? 1 : 0,
-                          shadow_cubes || cascades ? static_cast<int>(options.shadows) : 0,
-                          options.pcf_taps);
+    u.counts =
+        glm::ivec4(static_cast<int>(lights.size()), options.half_lambert ? 1 : 0,
+                   shadow_cubes || spot_maps || cascades ? static_cast<int>(options.shadows) : 0,
+                   options.pcf_taps);
     u.shadow_config = vec4(options.shadow_bias, options.pcf_radius, options.vsm_tau, 1e-7f);
     u.options =
         glm::ivec4(options.single_light, static_cast<int>(lightmap_info.kind), prt ? 1 : 0, 0);
@@ -1451,6 +1621,22 @@ void Renderer::set_prt_transfer(const std::vector<glm::vec4>& transfer) {
       .buffer(m.frame_set, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, m.prt_transfer.handle())
       .commit(m.context.device());
   m.prt = true;
+}
+
+bool Renderer::set_options(const RendererOptions& o) {
+  Impl& m = *impl_;
+  const RendererOptions& c = m.options;
+  if (o.width != c.width || o.height != c.height || o.technique != c.technique ||
+      o.shadows != c.shadows || o.shadow_resolution != c.shadow_resolution ||
+      o.shadow_update_period != c.shadow_update_period ||
+      (o.bloom_strength > 0.0f) != (c.bloom_strength > 0.0f) ||
+      o.deferred_lighting != c.deferred_lighting)
+    return false;
+  // The bias also offsets cascade rendering; back-face volumes change the geometry.
+  if (o.shadow_bias != c.shadow_bias) m.graph.invalidate("shadow_maps");
+  if (o.volume_back_faces != c.volume_back_faces) m.volumes_dirty = true;
+  m.options = o;
+  return true;
 }
 
 void Renderer::update_lights(const std::vector<Light>& lights) {

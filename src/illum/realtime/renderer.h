@@ -1,8 +1,11 @@
 // The real-time renderer: uploads a Scene once, then renders frames headless into an HDR
 // float target and an 8-bit tone-mapped target through a frame graph of passes:
-//   shadow_maps (cube maps of point/spot lights; on change or every N frames)
-//   forward  (S002 §4.1 Phong, all lights, shadow-map lookups; with stencil shadows it
-//            writes depth + emission + ambient only)
+//   shadow_maps (cube maps of point lights and wide spots, one 2-D map per spot light up
+//            to 60°; on change or every N frames)
+//   forward  (depth pre-pass, then S002 §4.1 Phong with depth EQUAL, all lights,
+//            shadow-map lookups; with stencil shadows it writes depth + emission + ambient)
+//   gbuffer, lighting (deferred: compact G-buffer after a depth pre-pass, then one compute
+//            dispatch over all lights, or per-light volumes)
 //   shadow_volumes (stencil shadows: per light a z-fail stencil pass, timed as
 //            "stencil_volumes", and an additive lighting pass, "volume_lighting")
 //   luminance (log-average) → tonemap (Reinhard / ACES / AgX, sRGB)
@@ -24,6 +27,9 @@
 namespace illum::realtime {
 
 enum class Technique { kForward, kDeferred };
+// Deferred lighting: one compute dispatch over the G-buffer looping over the lights, or
+// per-light volumes with the stencil trick (S001 §4.1).
+enum class DeferredLighting { kCompute, kVolumes };
 enum class ToneMapOp : int { kClamp = 0, kReinhard = 1, kAces = 2, kAgx = 3 };
 
 struct RendererOptions {
@@ -47,16 +53,19 @@ struct RendererOptions {
   float bloom_strength = 0.0f;  // 0 = no bloom passes
   float bloom_threshold = 1.0f;
   int single_light = -1;  // ≥ 0: light only with this light (debugging, tests)
+  DeferredLighting deferred_lighting = DeferredLighting::kCompute;
 
   // Reads the options above from `params` (keys as the field names; enums by name:
   // technique forward|deferred, shadows none|map|vsm|volume, tone_mapper
-  // clamp|reinhard|aces|agx). Unknown keys are left for the caller's check_all_used().
+  // clamp|reinhard|aces|agx, deferred_lighting compute|volumes). Unknown keys are left for the
+  // caller's check_all_used().
   static RendererOptions from_params(const Params& params);
 };
 
 ToneMapOp tone_map_op_from_string(const std::string& name);
 ShadowMode shadow_mode_from_string(const std::string& name);
 Technique technique_from_string(const std::string& name);
+DeferredLighting deferred_lighting_from_string(const std::string& name);
 
 // The scene's lights as the real-time renderer uses them: point, spot and directional
 // lights unchanged; each area light becomes a hemispherical spot light at its emitter's
@@ -105,6 +114,14 @@ class Renderer {
   Image ldr();  // tone-mapped display values (linear, decoded from the sRGB target), RGBA
 
   const RendererOptions& options() const;
+  // Applies `options` in place when only per-frame values differ from the current ones
+  // (PCF taps/radius, bias, VSM τ, half-Lambert, ambient, tone mapper, exposure, key, bloom
+  // strength/threshold while bloom stays on, volume_back_faces, single_light) and returns
+  // true. Returns false, changing nothing, when a structural option differs (size,
+  // technique, deferred lighting, shadow mode, shadow resolution or update period, bloom
+  // on/off): the caller then builds a new Renderer. Lets `illum view` change parameters
+  // without a rebuild.
+  bool set_options(const RendererOptions& options);
   // Binds baked light-map data (replacing the constant ambient); throws Error on a wrong
   // layer count or mismatched sizes.
   void set_lightmap(const Lightmap& lightmap);

@@ -1,5 +1,6 @@
 #include "illum/realtime/shadow_volume_builder.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -99,6 +100,22 @@ void ShadowVolumeBuilder::build(const Light& light, bool back_facing_casters, fl
   auto away = [&](const vec3& p) {
     return directional ? travel : glm::normalize(p - light.position);
   };
+  // A triangle whose rays from the light all miss the spot's cone, or that lies beyond the
+  // light's range, shadows only points the light does not reach: its volume would be pure
+  // fill. Conservative through the triangle's bounding sphere.
+  auto outside_light = [&](const Tri& tri) {
+    if (directional) return false;
+    const vec3 c = (tri.p[0] + tri.p[1] + tri.p[2]) / 3.0f;
+    float r = 0.0f;
+    for (const vec3& p : tri.p) r = std::max(r, glm::length(p - c));
+    const vec3 to = c - light.position;
+    const float d = glm::length(to);
+    if (d <= r * 1.001f) return false;
+    if (light.range > 0.0f && d - r > light.range) return true;
+    if (light.type != LightType::kSpot) return false;
+    const float angle = std::acos(std::clamp(glm::dot(to / d, travel), -1.0f, 1.0f));
+    return angle - std::asin(std::min(r / d, 1.0f)) > light.cone_half_angle;
+  };
   std::vector<int8_t> caster(triangles_.size(), 0), flipped(triangles_.size(), 0);
   for (size_t t = 0; t < triangles_.size(); ++t) {
     const Tri& tri = triangles_[t];
@@ -107,6 +124,7 @@ void ShadowVolumeBuilder::build(const Light& light, bool back_facing_casters, fl
     const float facing = glm::dot(n, to_light);
     flipped[t] = facing < 0.0f;
     caster[t] = tri.open ? facing != 0.0f : back_facing_casters ? (facing < 0.0f) : (facing > 0.0f);
+    if (caster[t] && outside_light(tri)) caster[t] = 0;
   }
   ShadowVolumeStats s;
   for (size_t t = 0; t < triangles_.size(); ++t) {

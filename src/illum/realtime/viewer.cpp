@@ -3,13 +3,22 @@
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <vector>
 
+#include "illum/core/error.h"
+#include "illum/core/image.h"
 #include "illum/core/log.h"
+#include "illum/gpu/buffer.h"
 #include "illum/gpu/vk_check.h"
 
 namespace illum::realtime {
@@ -27,24 +36,91 @@ struct Glfw {
 struct Swapchain {
   VkDevice device = VK_NULL_HANDLE;
   VkSwapchainKHR handle = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
   std::vector<VkImage> images;
+  std::vector<VkImageView> views;
+  std::vector<VkFramebuffer> framebuffers;  // for the panel's render pass
   VkExtent2D extent{};
+  void destroy_targets() {
+    for (VkFramebuffer f : framebuffers) vkDestroyFramebuffer(device, f, nullptr);
+    for (VkImageView v : views) vkDestroyImageView(device, v, nullptr);
+    framebuffers.clear();
+    views.clear();
+  }
   ~Swapchain() {
+    destroy_targets();
     if (handle) vkDestroySwapchainKHR(device, handle, nullptr);
   }
 };
 
-void create_swapchain(gpu::Context& ctx, VkSurfaceKHR surface, GLFWwindow* window, Swapchain* sc) {
-  VkSurfaceCapabilitiesKHR caps;
-  ILLUM_VK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(ctx.physical(), surface, &caps));
+VkSurfaceFormatKHR pick_surface_format(gpu::Context& ctx, VkSurfaceKHR surface) {
   uint32_t count = 0;
   vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical(), surface, &count, nullptr);
   std::vector<VkSurfaceFormatKHR> formats(count);
   vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical(), surface, &count, formats.data());
-  // The renderer's output is already sRGB-encoded: present through a UNORM format.
+  if (formats.empty()) throw Error("illum view: the window surface offers no formats");
+  // The renderer's output is already sRGB-encoded, and ImGui's colours are display values:
+  // present through a UNORM format so neither is encoded twice.
   VkSurfaceFormatKHR format = formats.at(0);
   for (const auto& f : formats)
     if (f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) format = f;
+  return format;
+}
+
+// The panel's pass: draws over the blitted frame (load), then leaves the image ready to
+// present. Frames written to a screenshot get one more barrier and a copy after it.
+VkRenderPass create_overlay_pass(VkDevice device, VkFormat format) {
+  VkAttachmentDescription color{};
+  color.format = format;
+  color.samples = VK_SAMPLE_COUNT_1_BIT;
+  color.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+  color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  color.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  color.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  color.initialLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  color.finalLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+  VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription sub{};
+  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  sub.colorAttachmentCount = 1;
+  sub.pColorAttachments = &ref;
+  VkSubpassDependency deps[2]{};
+  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+  deps[0].dstSubpass = 0;
+  deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  deps[0].srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  deps[0].dstAccessMask =
+      VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  deps[1].srcSubpass = 0;
+  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+  deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  info.attachmentCount = 1;
+  info.pAttachments = &color;
+  info.subpassCount = 1;
+  info.pSubpasses = &sub;
+  info.dependencyCount = 2;
+  info.pDependencies = deps;
+  VkRenderPass pass = VK_NULL_HANDLE;
+  ILLUM_VK(vkCreateRenderPass(device, &info, nullptr, &pass));
+  return pass;
+}
+
+void create_swapchain(gpu::Context& ctx, VkSurfaceKHR surface, GLFWwindow* window,
+                      VkSurfaceFormatKHR format, VkRenderPass pass, bool readback, Swapchain* sc) {
+  VkSurfaceCapabilitiesKHR caps;
+  ILLUM_VK(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(ctx.physical(), surface, &caps));
+  uint32_t count = 0;
+  const VkImageUsageFlags usage =
+      VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+      (readback ? VkImageUsageFlags{VK_IMAGE_USAGE_TRANSFER_SRC_BIT} : VkImageUsageFlags{0});
+  if ((caps.supportedUsageFlags & usage) != usage)
+    throw Error(readback ? "illum view --screenshot: the window's swapchain cannot be read back"
+                         : "illum view: the window's swapchain cannot be rendered to");
   int w = 0, h = 0;
   glfwGetFramebufferSize(window, &w, &h);
   VkExtent2D extent = caps.currentExtent;
@@ -61,7 +137,7 @@ void create_swapchain(gpu::Context& ctx, VkSurfaceKHR surface, GLFWwindow* windo
   info.imageColorSpace = format.colorSpace;
   info.imageExtent = extent;
   info.imageArrayLayers = 1;
-  info.imageUsage = VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  info.imageUsage = usage;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
@@ -70,6 +146,9 @@ void create_swapchain(gpu::Context& ctx, VkSurfaceKHR surface, GLFWwindow* windo
   info.oldSwapchain = sc->handle;
   VkSwapchainKHR handle = VK_NULL_HANDLE;
   ILLUM_VK(vkCreateSwapchainKHR(ctx.device(), &info, nullptr, &handle));
+  // Views and framebuffers of the old images go before the old swapchain itself.
+  sc->device = ctx.device();
+  sc->destroy_targets();
   if (sc->handle) vkDestroySwapchainKHR(ctx.device(), sc->handle, nullptr);
   sc->device = ctx.device();
   sc->handle = handle;
@@ -77,6 +156,27 @@ void create_swapchain(gpu::Context& ctx, VkSurfaceKHR surface, GLFWwindow* windo
   vkGetSwapchainImagesKHR(ctx.device(), handle, &count, nullptr);
   sc->images.resize(count);
   vkGetSwapchainImagesKHR(ctx.device(), handle, &count, sc->images.data());
+  sc->format = format.format;
+  for (VkImage image : sc->images) {
+    VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vi.image = image;
+    vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    vi.format = format.format;
+    vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkImageView view = VK_NULL_HANDLE;
+    ILLUM_VK(vkCreateImageView(ctx.device(), &vi, nullptr, &view));
+    sc->views.push_back(view);
+    VkFramebufferCreateInfo fi{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    fi.renderPass = pass;
+    fi.attachmentCount = 1;
+    fi.pAttachments = &view;
+    fi.width = extent.width;
+    fi.height = extent.height;
+    fi.layers = 1;
+    VkFramebuffer fb = VK_NULL_HANDLE;
+    ILLUM_VK(vkCreateFramebuffer(ctx.device(), &fi, nullptr, &fb));
+    sc->framebuffers.push_back(fb);
+  }
 }
 
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
@@ -98,9 +198,178 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkIma
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
+const char* const kTechniques[] = {"forward", "deferred"};
+const char* const kShadowModes[] = {"none", "map", "vsm", "volume"};
+const char* const kDeferredLighting[] = {"compute", "light volumes"};
+const char* const kToneMappers[] = {"clamp", "reinhard", "aces", "agx"};
+const char* const kLightTypes[] = {"point", "spot", "directional", "area", "environment"};
+
+// State the panel edits besides RendererOptions.
+struct PanelState {
+  std::vector<Light> base_lights;  // realtime_lights(scene): what the edits start from
+  std::vector<Light> lights;       // as edited
+  float light_scale = 1.0f;        // multiplies every light's intensity / irradiance
+  bool lights_changed = false;
+  float speed = 1.0f;  // camera speed, scene diagonals per ... see move_speed
+  std::string error;   // the last rejected option change (e.g. volume without depth clamp)
+  ImVec2 panel_pos{0, 0}, panel_size{0, 0};
+};
+
+std::vector<Light> scaled_lights(const PanelState& p) {
+  std::vector<Light> out = p.lights;
+  for (Light& l : out) {
+    l.intensity *= p.light_scale;
+    l.irradiance *= p.light_scale;
+  }
+  return out;
+}
+
+bool combo(const char* label, int* value, const char* const* items, int count) {
+  return ImGui::Combo(label, value, items, count);
+}
+
+// The panel: one widget per RendererOptions field (every field changes the image live;
+// the structural ones rebuild the renderer), the lights, the camera and the GPU times.
+void draw_panel(const gpu::Context& ctx, RendererOptions* o, PanelState* p, Camera* camera,
+                const Camera& home, const std::vector<gpu::PassTime>& times, double frame_ms,
+                float panel_width, float panel_height) {
+  ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(panel_width, panel_height), ImGuiCond_FirstUseEver);
+  ImGui::Begin("illum view");
+  // Half the width for the widget, half for its label: narrow panels stay readable.
+  ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.45f);
+  ImGui::Text("%s", ctx.device_name().c_str());
+  ImGui::Text("%dx%d  %.1f ms/frame", o->width, o->height, frame_ms);
+  int technique = static_cast<int>(o->technique);
+  if (combo("technique", &technique, kTechniques, 2))
+    o->technique = static_cast<Technique>(technique);
+  int shadows = static_cast<int>(o->shadows);
+  // Stencil shadow volumes exist in the forward path only.
+  if (combo("shadows", &shadows, kShadowModes, o->technique == Technique::kForward ? 4 : 3))
+    o->shadows = static_cast<ShadowMode>(shadows);
+  if (o->technique == Technique::kDeferred) {
+    int lighting = static_cast<int>(o->deferred_lighting);
+    if (combo("lighting", &lighting, kDeferredLighting, 2))
+      o->deferred_lighting = static_cast<DeferredLighting>(lighting);
+  }
+  if (!p->error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", p->error.c_str());
+
+  if (ImGui::CollapsingHeader("GPU time (ms)", ImGuiTreeNodeFlags_DefaultOpen)) {
+    double total = 0.0;
+    if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
+      auto row = [](const char* name, double ms) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(name);
+        ImGui::TableNextColumn();
+        ImGui::Text("%.3f", ms);
+      };
+      for (const gpu::PassTime& t : times) {
+        row(t.name.c_str(), t.ms);
+        if (t.name.rfind("cpu:", 0) != 0) total += t.ms;
+      }
+      row("sum (GPU)", total);
+      ImGui::EndTable();
+    }
+    if (!ctx.timestamps()) ImGui::TextDisabled("(device has no timestamps)");
+  }
+  if (ImGui::CollapsingHeader("Shadows", ImGuiTreeNodeFlags_DefaultOpen)) {
+    int res_log = static_cast<int>(std::lround(std::log2(std::max(o->shadow_resolution, 1))));
+    if (ImGui::SliderInt("resolution (2^n)", &res_log, 6, 12)) o->shadow_resolution = 1 << res_log;
+    ImGui::SliderInt("update period", &o->shadow_update_period, 0, 30);
+    ImGui::SliderInt("PCF taps", &o->pcf_taps, 1, 64);
+    ImGui::SliderFloat("PCF radius", &o->pcf_radius, 0.0f, 8.0f, "%.2f texels");
+    ImGui::SliderFloat("bias", &o->shadow_bias, 0.0f, 0.02f, "%.4f", ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderFloat("VSM tau", &o->vsm_tau, 0.0f, 0.99f);
+    ImGui::Checkbox("volumes from back faces", &o->volume_back_faces);
+    ImGui::TextDisabled("cascades: 4 (first directional light)");
+  }
+  if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+    p->lights_changed |= ImGui::SliderFloat("intensity x", &p->light_scale, 0.0f, 16.0f, "%.3f",
+                                            ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderInt("single light", &o->single_light, -1, static_cast<int>(p->lights.size()) - 1,
+                     o->single_light < 0 ? "all" : "%d");
+    for (size_t i = 0; i < p->lights.size(); ++i) {
+      Light& l = p->lights[i];
+      ImGui::PushID(static_cast<int>(i));
+      const int type = std::clamp(static_cast<int>(l.type), 0, 4);
+      if (ImGui::TreeNode("light", "light %zu (%s)", i, kLightTypes[type])) {
+        Color& c = l.type == LightType::kDirectional ? l.irradiance : l.intensity;
+        p->lights_changed |= ImGui::ColorEdit3("intensity", &c.r,
+                                               ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
+        if (l.type != LightType::kDirectional) {
+          p->lights_changed |= ImGui::DragFloat3("position", &l.position.x, 0.01f);
+          p->lights_changed |= ImGui::DragFloat("range (0 = none)", &l.range, 0.01f, 0.0f, 1e6f);
+        }
+        if (ImGui::Button("reset")) {
+          l = p->base_lights[i];
+          p->lights_changed = true;
+        }
+        ImGui::TreePop();
+      }
+      ImGui::PopID();
+    }
+  }
+  if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Checkbox("half-Lambert", &o->half_lambert);
+    ImGui::ColorEdit3("ambient", &o->ambient.r,
+                      ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
+  }
+  if (ImGui::CollapsingHeader("Tone mapping", ImGuiTreeNodeFlags_DefaultOpen)) {
+    int op = static_cast<int>(o->tone_mapper);
+    if (combo("tone mapper", &op, kToneMappers, 4)) o->tone_mapper = static_cast<ToneMapOp>(op);
+    ImGui::Checkbox("auto exposure", &o->auto_exposure);
+    ImGui::SliderFloat("exposure", &o->exposure, 0.01f, 100.0f, "%.3f",
+                       ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderFloat("key", &o->key, 0.01f, 1.0f, "%.3f");
+  }
+  if (ImGui::CollapsingHeader("Bloom", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SliderFloat("strength (0 = off)", &o->bloom_strength, 0.0f, 2.0f);
+    ImGui::SliderFloat("threshold", &o->bloom_threshold, 0.0f, 10.0f);
+  }
+  if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SliderFloat("speed", &p->speed, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
+    float fov = glm::degrees(camera->fov_y);
+    if (ImGui::SliderFloat("fov y", &fov, 10.0f, 120.0f, "%.1f deg"))
+      camera->fov_y = glm::radians(fov);
+    ImGui::Text("at %.2f %.2f %.2f", camera->position.x, camera->position.y, camera->position.z);
+    if (ImGui::Button("reset camera")) *camera = home;
+    ImGui::TextDisabled("WASD move, Q/E down/up, Shift fast,\nright-drag look, Esc quit");
+  }
+  ImGui::PopItemWidth();
+  p->panel_pos = ImGui::GetWindowPos();
+  p->panel_size = ImGui::GetWindowSize();
+  ImGui::End();
+}
+
+bool same_structure(const RendererOptions& a, const RendererOptions& b) {
+  return a.width == b.width && a.height == b.height && a.technique == b.technique &&
+         a.shadows == b.shadows && a.shadow_resolution == b.shadow_resolution &&
+         a.shadow_update_period == b.shadow_update_period &&
+         (a.bloom_strength > 0.0f) == (b.bloom_strength > 0.0f) &&
+         a.deferred_lighting == b.deferred_lighting;
+}
+
+// The ImGui context and its two backends, shut down in reverse order.
+struct ImGuiSession {
+  bool glfw = false, vulkan = false;
+  ImGuiSession() { ImGui::CreateContext(); }
+  ~ImGuiSession() {
+    if (vulkan) ImGui_ImplVulkan_Shutdown();
+    if (glfw) ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+};
+
+void check_vk(VkResult r) {
+  if (r != VK_SUCCESS)
+    throw Error(fmt::format("illum view: ImGui Vulkan call failed ({})", static_cast<int>(r)));
+}
+
 }  // namespace
 
-bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string* reason) {
+bool run_viewer(const Scene& scene, const RendererOptions& initial, const ViewerOptions& viewer,
+                std::string* reason) {
   Glfw glfw;
   if (!glfw.ok) {
     *reason = "GLFW could not initialise (no display?)";
@@ -141,8 +410,13 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string*
     *reason = "the Vulkan queue cannot present to this window";
     return false;
   }
-  auto swapchain = std::make_unique<Swapchain>();
-  create_swapchain(ctx, surface, window, swapchain.get());
+  const bool readback = !viewer.screenshot.empty();
+  const VkSurfaceFormatKHR surface_format = pick_surface_format(ctx, surface);
+  const VkFormat fmt_ = surface_format.format;
+  if (readback && fmt_ != VK_FORMAT_B8G8R8A8_UNORM && fmt_ != VK_FORMAT_R8G8B8A8_UNORM &&
+      fmt_ != VK_FORMAT_B8G8R8A8_SRGB && fmt_ != VK_FORMAT_R8G8B8A8_SRGB)
+    throw Error("illum view --screenshot: the window's format is not 8-bit RGBA/BGRA");
+  const bool bgra = fmt_ == VK_FORMAT_B8G8R8A8_UNORM || fmt_ == VK_FORMAT_B8G8R8A8_SRGB;
 
   VkCommandPool pool = VK_NULL_HANDLE;
   VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -161,58 +435,138 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string*
   VkFence fence = VK_NULL_HANDLE;
   VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   ILLUM_VK(vkCreateFence(ctx.device(), &fi, nullptr, &fence));
+  const VkRenderPass overlay_pass = create_overlay_pass(ctx.device(), fmt_);
+  // Only the font texture's descriptor set comes from this pool.
+  VkDescriptorPool imgui_pool = VK_NULL_HANDLE;
+  {
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4};
+    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dp.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    dp.maxSets = 4;
+    dp.poolSizeCount = 1;
+    dp.pPoolSizes = &size;
+    ILLUM_VK(vkCreateDescriptorPool(ctx.device(), &dp, nullptr, &imgui_pool));
+  }
   struct SyncGuard {
     VkDevice d;
     VkCommandPool p;
     VkSemaphore a, b;
     VkFence f;
+    VkRenderPass rp;
+    VkDescriptorPool dp;
     ~SyncGuard() {
       vkDeviceWaitIdle(d);
+      vkDestroyDescriptorPool(d, dp, nullptr);
+      vkDestroyRenderPass(d, rp, nullptr);
       vkDestroyFence(d, f, nullptr);
       vkDestroySemaphore(d, a, nullptr);
       vkDestroySemaphore(d, b, nullptr);
       vkDestroyCommandPool(d, p, nullptr);
     }
-  } sync_guard{ctx.device(), pool, acquired, done, fence};
+  } sync_guard{ctx.device(), pool, acquired, done, fence, overlay_pass, imgui_pool};
+
+  auto swapchain = std::make_unique<Swapchain>();
+  create_swapchain(ctx, surface, window, surface_format, overlay_pass, readback, swapchain.get());
+
+  ImGuiSession imgui;
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;  // no imgui.ini in the user's folder
+  ImGui::StyleColorsDark();
+  imgui.glfw = ImGui_ImplGlfw_InitForVulkan(window, true);
+  ImGui_ImplVulkan_InitInfo init{};
+  init.Instance = ctx.instance();
+  init.PhysicalDevice = ctx.physical();
+  init.Device = ctx.device();
+  init.QueueFamily = ctx.queue_family();
+  init.Queue = ctx.queue();
+  init.DescriptorPool = imgui_pool;
+  init.Subpass = 0;
+  // Every frame waits for its fence, so two sets of ImGui vertex buffers are plenty.
+  init.MinImageCount = 2;
+  init.ImageCount = 2;
+  init.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+  init.CheckVkResultFn = check_vk;
+  imgui.vulkan = ImGui_ImplVulkan_Init(&init, overlay_pass);
+  if (!imgui.glfw || !imgui.vulkan) throw Error("illum view: ImGui backends failed to initialise");
+  ctx.immediate([](VkCommandBuffer c) { ImGui_ImplVulkan_CreateFontsTexture(c); });
+  ImGui_ImplVulkan_DestroyFontUploadObjects();
+
+  // Screenshot: every frame's final image is copied here (cheap), written at exit.
+  gpu::Buffer shot;
 
   RendererOptions options = initial;
-  Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  const Camera home = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  Camera camera = home;
   std::unique_ptr<Renderer> renderer;
-  bool rebuild = true;
-  const float speed = std::max(scene.bounds().diagonal(), 1e-3f) * 0.25f;
+  RendererOptions built = options;  // what `renderer` was made with (structure)
+  PanelState panel;
+  panel.base_lights = realtime_lights(scene);
+  panel.lights = panel.base_lights;
+  const float diagonal = std::max(scene.bounds().diagonal(), 1e-3f);
   double last_time = glfwGetTime(), last_x = 0.0, last_y = 0.0;
   bool dragging = false;
-  int prev_keys[GLFW_KEY_LAST + 1] = {};
-  auto pressed = [&](int key) {
-    const int now = glfwGetKey(window, key);
-    const bool edge = now == GLFW_PRESS && prev_keys[key] != GLFW_PRESS;
-    prev_keys[key] = now;
-    return edge;
-  };
+  double frame_ms = 0.0;
+  int frames = 0;
+  bool have_shot = false;
   std::printf(
-      "illum view: W/A/S/D/Q/E move, right-drag look, 1/2 forward/deferred, 3-6 shadows "
-      "none/map/vsm/volume, T tone mapper, B bloom, H Half-Lambert, Esc quit\n");
+      "illum view: W/A/S/D/Q/E move, right-drag look, Shift fast, panel on the left, "
+      "Esc quits\n");
+  std::fflush(stdout);
   while (!glfwWindowShouldClose(window)) {
+    if (viewer.frames > 0 && frames >= viewer.frames) break;
     glfwPollEvents();
-    if (glfwGetKey(window, GLFW_KEY_ESCAPE) == GLFW_PRESS) break;
     const double now = glfwGetTime();
     const float dt = static_cast<float>(now - last_time);
     last_time = now;
-    // Camera controls.
+    frame_ms = frame_ms == 0.0 ? dt * 1000.0 : 0.9 * frame_ms + 0.1 * dt * 1000.0;
+
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(window, &fw, &fh);
+    if (fw == 0 || fh == 0) {  // minimised
+      glfwWaitEvents();
+      continue;
+    }
+    if (static_cast<uint32_t>(fw) != swapchain->extent.width ||
+        static_cast<uint32_t>(fh) != swapchain->extent.height) {
+      ctx.wait_idle();
+      create_swapchain(ctx, surface, window, surface_format, overlay_pass, readback,
+                       swapchain.get());
+    }
+    options.width = static_cast<int>(swapchain->extent.width);
+    options.height = static_cast<int>(swapchain->extent.height);
+
+    ImGui_ImplVulkan_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    static const std::vector<gpu::PassTime> kNoTimes;
+    draw_panel(ctx, &options, &panel, &camera, home, renderer ? renderer->pass_times() : kNoTimes,
+               frame_ms, std::min(340.0f, 0.5f * static_cast<float>(options.width)),
+               static_cast<float>(options.height));
+    ImGui::Render();
+    if (options.technique == Technique::kDeferred && options.shadows == ShadowMode::kVolume)
+      options.shadows = ShadowMode::kMap;
+
+    // Camera controls (keys and the mouse belong to the panel while it wants them).
+    const float speed = diagonal * 0.25f * panel.speed *
+                        (glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4.0f : 1.0f);
     vec3 forward = glm::normalize(camera.look_at - camera.position);
     const vec3 right = glm::normalize(glm::cross(forward, camera.up));
-    vec3 move(0.0f);
-    if (glfwGetKey(window, GLFW_KEY_W) == GLFW_PRESS) move += forward;
-    if (glfwGetKey(window, GLFW_KEY_S) == GLFW_PRESS) move -= forward;
-    if (glfwGetKey(window, GLFW_KEY_D) == GLFW_PRESS) move += right;
-    if (glfwGetKey(window, GLFW_KEY_A) == GLFW_PRESS) move -= right;
-    if (glfwGetKey(window, GLFW_KEY_E) == GLFW_PRESS) move += camera.up;
-    if (glfwGetKey(window, GLFW_KEY_Q) == GLFW_PRESS) move -= camera.up;
-    camera.position += move * speed * dt;
-    camera.look_at += move * speed * dt;
+    if (!io.WantCaptureKeyboard) {
+      if (glfwGetKey(window, GLFW_KEY_ESCAPE) == GLFW_PRESS) break;
+      vec3 move(0.0f);
+      if (glfwGetKey(window, GLFW_KEY_W) == GLFW_PRESS) move += forward;
+      if (glfwGetKey(window, GLFW_KEY_S) == GLFW_PRESS) move -= forward;
+      if (glfwGetKey(window, GLFW_KEY_D) == GLFW_PRESS) move += right;
+      if (glfwGetKey(window, GLFW_KEY_A) == GLFW_PRESS) move -= right;
+      if (glfwGetKey(window, GLFW_KEY_E) == GLFW_PRESS) move += camera.up;
+      if (glfwGetKey(window, GLFW_KEY_Q) == GLFW_PRESS) move -= camera.up;
+      camera.position += move * speed * dt;
+      camera.look_at += move * speed * dt;
+    }
     double mx, my;
     glfwGetCursorPos(window, &mx, &my);
-    if (glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS) {
+    if (glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS &&
+        (dragging || !io.WantCaptureMouse)) {
       if (dragging) {
         const float yaw = -0.005f * static_cast<float>(mx - last_x);
         const float pitch = -0.005f * static_cast<float>(my - last_y);
@@ -229,38 +583,26 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string*
     }
     last_x = mx;
     last_y = my;
-    // Technique switches rebuild the renderer.
-    if (pressed(GLFW_KEY_1)) options.technique = Technique::kForward, rebuild = true;
-    if (pressed(GLFW_KEY_2)) options.technique = Technique::kDeferred, rebuild = true;
-    if (pressed(GLFW_KEY_3)) options.shadows = ShadowMode::kNone, rebuild = true;
-    if (pressed(GLFW_KEY_4)) options.shadows = ShadowMode::kMap, rebuild = true;
-    if (pressed(GLFW_KEY_5)) options.shadows = ShadowMode::kVsm, rebuild = true;
-    if (pressed(GLFW_KEY_6)) options.shadows = ShadowMode::kVolume, rebuild = true;
-    if (pressed(GLFW_KEY_T))
-      options.tone_mapper = static_cast<ToneMapOp>((static_cast<int>(options.tone_mapper) + 1) % 4),
-      rebuild = true;
-    if (pressed(GLFW_KEY_B))
-      options.bloom_strength = options.bloom_strength > 0.0f ? 0.0f : 0.3f, rebuild = true;
-    if (pressed(GLFW_KEY_H)) options.half_lambert = !options.half_lambert, rebuild = true;
-    if (options.technique == Technique::kDeferred && options.shadows == ShadowMode::kVolume)
-      options.shadows = ShadowMode::kMap;
 
-    int fw = 0, fh = 0;
-    glfwGetFramebufferSize(window, &fw, &fh);
-    if (fw == 0 || fh == 0) continue;  // minimised
-    if (static_cast<uint32_t>(fw) != swapchain->extent.width ||
-        static_cast<uint32_t>(fh) != swapchain->extent.height) {
+    // Per-frame values go straight into the renderer; structural changes rebuild it.
+    if (!renderer || !same_structure(options, built) || !renderer->set_options(options)) {
       ctx.wait_idle();
-      create_swapchain(ctx, surface, window, swapchain.get());
-      rebuild = true;
+      try {
+        auto next = std::make_unique<Renderer>(ctx, scene, options);
+        renderer.reset();
+        renderer = std::move(next);
+        built = options;
+        panel.error.clear();
+        panel.lights_changed = true;  // a new renderer starts from the scene's lights
+      } catch (const Error& e) {
+        if (!renderer) throw;
+        panel.error = e.what();
+        options = built;  // keep the working renderer
+      }
     }
-    if (rebuild) {
-      ctx.wait_idle();
-      options.width = static_cast<int>(swapchain->extent.width);
-      options.height = static_cast<int>(swapchain->extent.height);
-      renderer.reset();
-      renderer = std::make_unique<Renderer>(ctx, scene, options);
-      rebuild = false;
+    if (panel.lights_changed) {
+      renderer->update_lights(scaled_lights(panel));
+      panel.lights_changed = false;
     }
     renderer->render(camera);
 
@@ -268,12 +610,19 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string*
     const VkResult acquire = vkAcquireNextImageKHR(ctx.device(), swapchain->handle, UINT64_MAX,
                                                    acquired, VK_NULL_HANDLE, &index);
     if (acquire == VK_ERROR_OUT_OF_DATE_KHR) {
-      rebuild = true;
       ctx.wait_idle();
-      create_swapchain(ctx, surface, window, swapchain.get());
+      create_swapchain(ctx, surface, window, surface_format, overlay_pass, readback,
+                       swapchain.get());
       continue;
     }
     if (acquire != VK_SUBOPTIMAL_KHR) ILLUM_VK(acquire);
+    const VkExtent2D extent = swapchain->extent;
+    if (readback) {
+      const VkDeviceSize bytes = VkDeviceSize{4} * extent.width * extent.height;
+      if (shot.size() != bytes)
+        shot =
+            gpu::Buffer(ctx, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUsage::kReadback);
+    }
     ILLUM_VK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -290,14 +639,34 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string*
     blit.srcOffsets[1] = {static_cast<int32_t>(out.desc().width),
                           static_cast<int32_t>(out.desc().height), 1};
     blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    blit.dstOffsets[1] = {static_cast<int32_t>(swapchain->extent.width),
-                          static_cast<int32_t>(swapchain->extent.height), 1};
+    blit.dstOffsets[1] = {static_cast<int32_t>(extent.width), static_cast<int32_t>(extent.height),
+                          1};
     vkCmdBlitImage(cmd, out.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_NEAREST);
-    image_barrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                  VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
-                  VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT,
-                  VK_ACCESS_2_NONE);
+    // The panel, drawn over the frame in the classic render pass ImGui 1.86 needs.
+    VkRenderPassBeginInfo rp{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    rp.renderPass = overlay_pass;
+    rp.framebuffer = swapchain->framebuffers[index];
+    rp.renderArea = {{0, 0}, extent};
+    vkCmdBeginRenderPass(cmd, &rp, VK_SUBPASS_CONTENTS_INLINE);
+    ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
+    vkCmdEndRenderPass(cmd);
+    if (readback) {
+      // The render pass's outgoing dependency made its writes visible to transfer reads.
+      image_barrier(cmd, target, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                    VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                    VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT);
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = {extent.width, extent.height, 1};
+      vkCmdCopyImageToBuffer(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, shot.handle(), 1,
+                             &region);
+      image_barrier(cmd, target, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                    VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_BOTTOM_OF_PIPE_BIT,
+                    VK_ACCESS_2_NONE);
+    }
     ILLUM_VK(vkEndCommandBuffer(cmd));
     VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
     wait.semaphore = acquired;
@@ -324,22 +693,37 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, std::string*
     const VkResult pr = vkQueuePresentKHR(ctx.queue(), &pinfo);
     ILLUM_VK(vkWaitForFences(ctx.device(), 1, &fence, VK_TRUE, UINT64_MAX));
     ILLUM_VK(vkResetFences(ctx.device(), 1, &fence));
-    if (pr == VK_ERROR_OUT_OF_DATE_KHR || pr == VK_SUBOPTIMAL_KHR)
-      rebuild = true;
-    else
-      ILLUM_VK(pr);
-    std::string title =
-        fmt::format("illum view — {} {} shadows, {:.1f} ms",
-                    options.technique == Technique::kForward ? "forward" : "deferred",
-                    options.shadows == ShadowMode::kNone  ? "no"
-                    : options.shadows == ShadowMode::kMap ? "map"
-                    : options.shadows == ShadowMode::kVsm ? "vsm"
-                                                          : "volume",
-                    dt * 1000.0f);
-    glfwSetWindowTitle(window, title.c_str());
+    have_shot = readback;
+    ++frames;
+    if (pr != VK_ERROR_OUT_OF_DATE_KHR && pr != VK_SUBOPTIMAL_KHR) ILLUM_VK(pr);
   }
+  ctx.wait_idle();
+  if (have_shot) {
+    const int w = static_cast<int>(swapchain->extent.width);
+    const int h = static_cast<int>(swapchain->extent.height);
+    std::vector<uint8_t> bytes(shot.size());
+    shot.read(bytes.data(), bytes.size());
+    // Written code for code (no sRGB re-encoding): what was on screen.
+    Image img(w, h, 4, 1.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const uint8_t* px = &bytes[(static_cast<size_t>(y) * w + x) * 4];
+        for (int c = 0; c < 3; ++c)
+          img.pixel(x, y)[c] = static_cast<float>(px[bgra ? 2 - c : c]) / 255.0f;
+      }
+    ImageWriteOptions wo;
+    wo.srgb = false;
+    write_image(viewer.screenshot, img, wo);
+  }
+  std::printf(
+      "illum view: %d frames, %ux%u, panel at %d,%d size %dx%d, %zu validation messages%s\n",
+      frames, swapchain->extent.width, swapchain->extent.height,
+      static_cast<int>(panel.panel_pos.x), static_cast<int>(panel.panel_pos.y),
+      static_cast<int>(panel.panel_size.x), static_cast<int>(panel.panel_size.y),
+      ctx.validation_message_count(),
+      ctx.validation_enabled() ? " (validation on)" : " (validation off)");
+  if (have_shot) std::printf("  wrote %s\n", viewer.screenshot.c_str());
   renderer.reset();
-  swapchain.reset();
   return true;
 }
 

@@ -23,6 +23,7 @@
 #include <optional>
 #include <vector>
 
+#include "illum/core/interrupt.h"
 #include "illum/core/parallel.h"
 #include "illum/core/rng.h"
 #include "illum/render/bsdf.h"
@@ -142,6 +143,7 @@ std::vector<T> trace_photons_parallel(const LightSampler& lights, int64_t count,
       blocks,
       [&](int64_t b0, int64_t b1) {
         for (int64_t b = b0; b < b1; ++b) {
+          if (interrupt_requested()) return;  // Ctrl-C: the caller throws Interrupted
           std::vector<T>& sink = sinks[static_cast<size_t>(b)];
           for (int64_t i = b * kBlock; i < std::min(count, (b + 1) * kBlock); ++i) {
             Rng rng(base, static_cast<uint64_t>(i));
@@ -154,6 +156,7 @@ std::vector<T> trace_photons_parallel(const LightSampler& lights, int64_t count,
         }
       },
       1);
+  if (interrupt_requested()) throw Interrupted{};
   size_t total = 0;
   for (const auto& s : sinks) total += s.size();
   std::vector<T> out;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "illum/core/error.h"
+#include "illum/core/interrupt.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/core/progress.h"
@@ -264,6 +265,7 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
     stats_.photons_emitted += photons_per_iteration_;
     ++done;
     progress.advance(1);
+    if (interrupt_requested()) throw Interrupted{};
     if (options.time_budget_s > 0.0 && elapsed() >= options.time_budget_s) break;
   }
   progress.finish();
