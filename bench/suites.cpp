@@ -16,8 +16,10 @@ std::span<const Suite> suites() {
   // Explicit list (no static registration): one line per suite.
   static const Suite kSuites[] = {
       {"rays", "closest-hit throughput of illum's RayTracer vs a raw Embree loop", &run_rays},
-      {"photons", "photon-map build and k-NN/radius query times: kd-tree vs nanoflann", &run_photons},
-      {"caustics", "caustic error at equal time: path vs photon vs SPPM (spot and sphere light)", &run_caustics},
+      {"photons", "photon-map build and k-NN/radius query times: kd-tree vs nanoflann",
+       &run_photons},
+      {"caustics", "caustic error at equal time: path vs photon vs SPPM (spot and sphere light)",
+       &run_caustics},
       {"path", "path-tracing samples/s and rays/s on cornell and sibenik", &run_path},
   };
   return kSuites;

@@ -26,10 +26,10 @@ struct Suite {
 std::span<const Suite> suites();
 
 // --- suites -----------------------------------------------------------------------------
-int run_rays(SuiteArgs args);  // bench_rays.cpp: ray-query throughput, illum vs raw Embree
-int run_photons(SuiteArgs args);   // bench_photons.cpp: photon-map build/query, kd-tree vs nanoflann
+int run_rays(SuiteArgs args);     // bench_rays.cpp: ray-query throughput, illum vs raw Embree
+int run_photons(SuiteArgs args);  // bench_photons.cpp: photon-map build/query, kd-tree vs nanoflann
 int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs photon vs SPPM
-int run_path(SuiteArgs args);  // bench_path.cpp: path-tracing samples/s and rays/s
+int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
 
 // --- helpers shared by suites ---------------------------------------------------------------
 

@@ -43,7 +43,8 @@ nlohmann::json describe(const Scene& scene) {
 void print_text(const nlohmann::json& j) {
   auto counts = [](const nlohmann::json& m) {
     std::string s;
-    for (const auto& [k, v] : m.items()) s += fmt::format("{}{} {}", s.empty() ? "" : ", ", v.get<int>(), k);
+    for (const auto& [k, v] : m.items())
+      s += fmt::format("{}{} {}", s.empty() ? "" : ", ", v.get<int>(), k);
     return s.empty() ? std::string("none") : s;
   };
   std::printf("scene       %s (%s)\n", j["name"].get<std::string>().c_str(),
@@ -51,11 +52,13 @@ void print_text(const nlohmann::json& j) {
   std::printf("triangles   %zu in %zu instances of %zu meshes (%zu vertices)\n",
               j["triangles"].get<size_t>(), j["instances"].get<size_t>(), j["meshes"].get<size_t>(),
               j["vertices"].get<size_t>());
-  std::printf("materials   %zu: %s\n", j["materials"].get<size_t>(), counts(j["material_types"]).c_str());
+  std::printf("materials   %zu: %s\n", j["materials"].get<size_t>(),
+              counts(j["material_types"]).c_str());
   std::printf("textures    %zu\n", j["textures"].get<size_t>());
   std::printf("lights      %zu: %s\n", j["lights"].get<size_t>(), counts(j["light_types"]).c_str());
   std::printf("environment %s\n", j["environment"].get<bool>() ? "yes" : "no");
-  std::printf("camera      %s\n", j["camera"].get<bool>() ? "yes" : "no (a framing camera is used)");
+  std::printf("camera      %s\n",
+              j["camera"].get<bool>() ? "yes" : "no (a framing camera is used)");
   if (j.contains("bounds_min")) {
     const auto& lo = j["bounds_min"];
     const auto& hi = j["bounds_max"];
@@ -72,10 +75,12 @@ void print_text(const nlohmann::json& j) {
 }  // namespace
 
 void add_info_command(CLI::App& app) {
-  auto* cmd = app.add_subcommand("info", "Print what a scene contains: triangles, lights, materials, bounds, warnings");
+  auto* cmd = app.add_subcommand(
+      "info", "Print what a scene contains: triangles, lights, materials, bounds, warnings");
   auto scene = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  cmd->add_option("scene", *scene, "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")->required();
+  cmd->add_option("scene", *scene, "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
+      ->required();
   cmd->add_flag("--json", *json, "print JSON instead of text");
   cmd->callback([scene, json] {
     const Scene s = load_scene(*scene);

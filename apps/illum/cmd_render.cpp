@@ -103,21 +103,36 @@ void run_render(const RenderArgs& args) {
 void add_render_command(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   auto* cmd = app.add_subcommand("render", "Render a scene offline with a CPU integrator");
-  cmd->add_option("scene", args->scene, "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")->required();
+  cmd->add_option("scene", args->scene,
+                  "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
+      ->required();
   cmd->add_option("-i,--integrator", args->integrator, "integrator")->capture_default_str();
-  cmd->add_option("-o,--output", args->output, "output image: .png .jpg (tone-mapped) or .exr .hdr (linear)")->required();
-  cmd->add_option("--width", args->width, "image width (default: scene settings)")->check(CLI::Range(1, kMaxImageSide));
-  cmd->add_option("--height", args->height, "image height (default: scene settings)")->check(CLI::Range(1, kMaxImageSide));
-  cmd->add_option("--spp", args->spp, "samples per pixel (default: scene settings)")->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("-o,--output", args->output,
+                  "output image: .png .jpg (tone-mapped) or .exr .hdr (linear)")
+      ->required();
+  cmd->add_option("--width", args->width, "image width (default: scene settings)")
+      ->check(CLI::Range(1, kMaxImageSide));
+  cmd->add_option("--height", args->height, "image height (default: scene settings)")
+      ->check(CLI::Range(1, kMaxImageSide));
+  cmd->add_option("--spp", args->spp, "samples per pixel (default: scene settings)")
+      ->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same image)");
-  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 4096));
-  cmd->add_option("--time", args->seconds, "time budget in seconds for progressive integrators (0: none)")->check(CLI::Range(0.0, 1e7));
+  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("--time", args->seconds,
+                  "time budget in seconds for progressive integrators (0: none)")
+      ->check(CLI::Range(0.0, 1e7));
   cmd->add_option("-p,--param", args->params, "integrator parameter key=value (repeatable)");
-  cmd->add_option("--bounces", args->bounces, "path: max bounces (a number) or a mode: all, direct, indirect1");
-  cmd->add_option("--shadows", args->shadows, "whitted: shadow rays on or off")->check(CLI::IsMember({"on", "off"}));
-  cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")->capture_default_str();
-  cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces")->capture_default_str();
-  cmd->add_flag("--no-preview", args->no_preview, "with .exr/.hdr output, do not also write a tone-mapped .png");
+  cmd->add_option("--bounces", args->bounces,
+                  "path: max bounces (a number) or a mode: all, direct, indirect1");
+  cmd->add_option("--shadows", args->shadows, "whitted: shadow rays on or off")
+      ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
+      ->capture_default_str();
+  cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces")
+      ->capture_default_str();
+  cmd->add_flag("--no-preview", args->no_preview,
+                "with .exr/.hdr output, do not also write a tone-mapped .png");
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -56,7 +56,8 @@ void check_output_path(const std::string& path) {
 }  // namespace illum::cli
 
 int main(int argc, char** argv) {
-  CLI::App app{"illum: global illumination for glTF/OBJ scenes — reference renderers, bakers, real-time"};
+  CLI::App app{
+      "illum: global illumination for glTF/OBJ scenes — reference renderers, bakers, real-time"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "illum 0.1.0");
   std::string log_level = "warn";
@@ -64,9 +65,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
   app.parse_complete_callback([&] {
     using illum::log::Level;
-    const Level level = log_level == "debug"  ? Level::kDebug
-                        : log_level == "info" ? Level::kInfo
-                        : log_level == "warn" ? Level::kWarn
+    const Level level = log_level == "debug"   ? Level::kDebug
+                        : log_level == "info"  ? Level::kInfo
+                        : log_level == "warn"  ? Level::kWarn
                         : log_level == "error" ? Level::kError
                                                : Level::kOff;
     illum::log::set_level(level);

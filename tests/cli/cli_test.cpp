@@ -70,7 +70,8 @@ const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
 TEST_F(CliTest, RendersCornellAo) {
   const fs::path out = dir_ / "ao.png";
-  const auto r = run("render cornell --integrator ao --width 32 --height 32 --spp 4 -o " + out.string());
+  const auto r =
+      run("render cornell --integrator ao --width 32 --height 32 --spp 4 -o " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out));
   // Nothing but the image is left in the folder (no temporary files).
@@ -118,8 +119,9 @@ TEST_F(CliTest, SponzaWithoutBufferFailsCleanly) {
 }
 
 TEST_F(CliTest, UnknownCliOption) {
-  expect_bad_input(run("render cornell --integrator ao --frobnicate 3 -o " + (dir_ / "x.png").string()),
-                   "frobnicate");
+  expect_bad_input(
+      run("render cornell --integrator ao --frobnicate 3 -o " + (dir_ / "x.png").string()),
+      "frobnicate");
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
 
@@ -131,7 +133,8 @@ TEST_F(CliTest, UnknownIntegrator) {
 
 TEST_F(CliTest, UnknownIntegratorParam) {
   const fs::path out = dir_ / "x.png";
-  expect_bad_input(run("render cornell --integrator ao --param colour=3 -o " + out.string()), "colour");
+  expect_bad_input(run("render cornell --integrator ao --param colour=3 -o " + out.string()),
+                   "colour");
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -158,7 +161,8 @@ TEST_F(CliTest, DegenerateTrianglesDroppedWithOneWarning) {
 
 TEST_F(CliTest, OutputInMissingFolder) {
   const fs::path out = dir_ / "no" / "such" / "folder" / "x.png";
-  expect_bad_input(run("render cornell --integrator ao --spp 1 -o " + out.string()), "does not exist");
+  expect_bad_input(run("render cornell --integrator ao --spp 1 -o " + out.string()),
+                   "does not exist");
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -171,7 +175,8 @@ TEST_F(CliTest, UnknownOutputExtension) {
 TEST_F(CliTest, ZeroSamplesAndAbsurdResolution) {
   const fs::path out = dir_ / "x.png";
   expect_bad_input(run("render cornell --integrator ao --spp 0 -o " + out.string()), "spp");
-  expect_bad_input(run("render cornell --integrator ao --width 100000 -o " + out.string()), "width");
+  expect_bad_input(run("render cornell --integrator ao --width 100000 -o " + out.string()),
+                   "width");
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -183,8 +188,9 @@ TEST_F(CliTest, InterruptStopsCleanlyWithoutOutput) {
     const std::string params = integrator == "sppm"     ? "-p iterations=1000000"
                                : integrator == "photon" ? "-p photons=100000000"
                                                         : "--spp 1000000";
-    const std::string cmd = "sh -c '" + std::string(ILLUM_BINARY_DIR) + "/bin/illum render cornell -i " +
-                            integrator + " " + params + " -o " + out.string() +
+    const std::string cmd = "sh -c '" + std::string(ILLUM_BINARY_DIR) +
+                            "/bin/illum render cornell -i " + integrator + " " + params + " -o " +
+                            out.string() +
                             " 2>/dev/null & pid=$!; sleep 1; kill -INT $pid; wait $pid'";
     const int status = std::system(cmd.c_str());
     ASSERT_TRUE(WIFEXITED(status)) << integrator;

@@ -184,8 +184,10 @@ TEST(LightSampler, EnvironmentImportanceSamplingIsConsistent) {
   }
   EXPECT_LE(pdf_mismatches, 200);
   EXPECT_NEAR(pdf_integral.mean(), 1.0, kZ * pdf_integral.standard_error());
-  EXPECT_NEAR(uniform.mean(), importance.mean(), kZ * std::hypot(uniform.standard_error(), importance.standard_error()));
-  EXPECT_LT(importance.standard_error(), uniform.standard_error());  // importance sampling helps on a sunny map
+  EXPECT_NEAR(uniform.mean(), importance.mean(),
+              kZ * std::hypot(uniform.standard_error(), importance.standard_error()));
+  EXPECT_LT(importance.standard_error(),
+            uniform.standard_error());  // importance sampling helps on a sunny map
 }
 
 TEST(LightSampler, EmissionCarriesEachLightsPower) {
@@ -239,7 +241,8 @@ TEST(LightSampler, EmissionCarriesEachLightsPower) {
     const auto em = ls.sample_emission(u01(gen), {u01(gen), u01(gen)}, {u01(gen), u01(gen)});
     total.add(em ? em->flux.g : 0.0);
   }
-  EXPECT_NEAR(total.mean(), ls.total_power().g, kZ * total.standard_error() + 1e-4 * ls.total_power().g);
+  EXPECT_NEAR(total.mean(), ls.total_power().g,
+              kZ * total.standard_error() + 1e-4 * ls.total_power().g);
 }
 
 TEST(LightSampler, TexturedEmitterPowerAndEmission) {

@@ -11,7 +11,9 @@ namespace illum {
 using Color = glm::vec3;  // linear RGB
 
 // Rec.709 luminance weights (green 0.7152; S000 §2.6 prints a wrong value, see ALGORITHMS.md 45).
-inline float luminance(const Color& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(const Color& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 inline float srgb_encode(float linear) {
   linear = std::clamp(linear, 0.0f, 1.0f);
@@ -27,6 +29,8 @@ inline Color srgb_encode(const Color& c) {
 inline Color srgb_decode(const Color& c) {
   return {srgb_decode(c.r), srgb_decode(c.g), srgb_decode(c.b)};
 }
-inline bool is_black(const Color& c) { return c.r <= 0.0f && c.g <= 0.0f && c.b <= 0.0f; }
+inline bool is_black(const Color& c) {
+  return c.r <= 0.0f && c.g <= 0.0f && c.b <= 0.0f;
+}
 
 }  // namespace illum

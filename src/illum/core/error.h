@@ -12,8 +12,7 @@ namespace illum {
 
 class Error : public std::runtime_error {
  public:
-  explicit Error(std::string message,
-                 std::source_location where = std::source_location::current());
+  explicit Error(std::string message, std::source_location where = std::source_location::current());
   // Where in illum's source the error was raised (for logs and debugging; the CLI shows
   // only the message, which must name the user's file/option itself).
   const std::source_location& where() const { return where_; }
@@ -33,11 +32,11 @@ class InternalError : public std::logic_error {
 
 }  // namespace illum
 
-#define ILLUM_CHECK(cond, ...)                                                        \
-  do {                                                                                \
-    if (!(cond)) [[unlikely]]                                                         \
-      ::illum::check_failed(#cond, ::fmt::format("" __VA_ARGS__),                     \
-                            std::source_location::current());                         \
+#define ILLUM_CHECK(cond, ...)                                    \
+  do {                                                            \
+    if (!(cond)) [[unlikely]]                                     \
+      ::illum::check_failed(#cond, ::fmt::format("" __VA_ARGS__), \
+                            std::source_location::current());     \
   } while (0)
 
 #ifdef NDEBUG

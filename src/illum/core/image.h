@@ -35,9 +35,7 @@ class Image {
   const std::vector<float>& data() const { return data_; }
 
  private:
-  size_t index(int x, int y) const {
-    return (static_cast<size_t>(y) * width_ + x) * channels_;
-  }
+  size_t index(int x, int y) const { return (static_cast<size_t>(y) * width_ + x) * channels_; }
   int width_ = 0, height_ = 0, channels_ = 0;
   std::vector<float> data_;
 };
@@ -49,9 +47,9 @@ enum class ImageFormat { kPng, kJpeg, kHdr, kExr };
 ImageFormat image_format_from_path(const std::string& path);
 
 struct ImageWriteOptions {
-  bool srgb = true;          // 8-bit formats: encode linear values to sRGB
-  float exposure = 1.0f;     // multiply before encoding (8-bit formats only)
-  bool exr_half = true;      // EXR: half floats (false: 32-bit floats)
+  bool srgb = true;       // 8-bit formats: encode linear values to sRGB
+  float exposure = 1.0f;  // multiply before encoding (8-bit formats only)
+  bool exr_half = true;   // EXR: half floats (false: 32-bit floats)
   int jpeg_quality = 95;
 };
 
@@ -63,6 +61,7 @@ Image read_image(const std::string& path, bool srgb = true);
 // Writes to `path` through a temporary file in the same folder and renames on success,
 // so a failed write leaves no partial file. Throws Error naming the path (e.g. missing
 // folder) on failure.
-void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options = {});
+void write_image(const std::string& path, const Image& image,
+                 const ImageWriteOptions& options = {});
 
 }  // namespace illum

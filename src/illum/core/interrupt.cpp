@@ -1,9 +1,9 @@
 #include "illum/core/interrupt.h"
 
+#include <unistd.h>
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
-#include <unistd.h>
 
 namespace illum {
 namespace {
@@ -16,9 +16,17 @@ extern "C" void on_sigint(int) {
 }
 }  // namespace
 
-void install_interrupt_handler() { std::signal(SIGINT, on_sigint); }
-bool interrupt_requested() { return g_interrupted.load(std::memory_order_relaxed); }
-void request_interrupt() { g_interrupted.store(true); }
-void clear_interrupt() { g_interrupted.store(false); }
+void install_interrupt_handler() {
+  std::signal(SIGINT, on_sigint);
+}
+bool interrupt_requested() {
+  return g_interrupted.load(std::memory_order_relaxed);
+}
+void request_interrupt() {
+  g_interrupted.store(true);
+}
+void clear_interrupt() {
+  g_interrupted.store(false);
+}
 
 }  // namespace illum

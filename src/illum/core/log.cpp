@@ -16,11 +16,21 @@ const bool kInstalled = [] {
 void set_level(Level level) {
   (void)kInstalled;
   switch (level) {
-    case Level::kDebug: spdlog::set_level(spdlog::level::debug); break;
-    case Level::kInfo: spdlog::set_level(spdlog::level::info); break;
-    case Level::kWarn: spdlog::set_level(spdlog::level::warn); break;
-    case Level::kError: spdlog::set_level(spdlog::level::err); break;
-    case Level::kOff: spdlog::set_level(spdlog::level::off); break;
+    case Level::kDebug:
+      spdlog::set_level(spdlog::level::debug);
+      break;
+    case Level::kInfo:
+      spdlog::set_level(spdlog::level::info);
+      break;
+    case Level::kWarn:
+      spdlog::set_level(spdlog::level::warn);
+      break;
+    case Level::kError:
+      spdlog::set_level(spdlog::level::err);
+      break;
+    case Level::kOff:
+      spdlog::set_level(spdlog::level::off);
+      break;
   }
 }
 

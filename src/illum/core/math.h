@@ -11,13 +11,13 @@
 
 namespace illum {
 
+using glm::ivec2;
 using glm::mat3;
 using glm::mat4;
+using glm::uvec3;
 using glm::vec2;
 using glm::vec3;
 using glm::vec4;
-using glm::ivec2;
-using glm::uvec3;
 
 inline constexpr float kPi = std::numbers::pi_v<float>;
 inline constexpr float kInvPi = 1.0f / kPi;
@@ -70,8 +70,12 @@ struct Frame {
 inline bool is_finite(const vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
-inline float max_component(const vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-inline float radians(float degrees) { return degrees * (kPi / 180.0f); }
+inline float max_component(const vec3& v) {
+  return std::max(v.x, std::max(v.y, v.z));
+}
+inline float radians(float degrees) {
+  return degrees * (kPi / 180.0f);
+}
 
 // Offsets a ray origin along the geometric normal to escape self-intersection; scaled by
 // the magnitude of the point so it works in millimetre and kilometre scenes alike.

@@ -19,7 +19,8 @@ struct Tile {
 
 // Calls fn(tile) for every tile of a width×height image, in parallel. The order of calls
 // is not defined; results that depend only on the tile are deterministic.
-void parallel_for_tiles(int width, int height, int tile_size, const std::function<void(const Tile&)>& fn);
+void parallel_for_tiles(int width, int height, int tile_size,
+                        const std::function<void(const Tile&)>& fn);
 
 // Calls fn(begin, end) over chunks of [0, count) in parallel.
 template <typename Fn>

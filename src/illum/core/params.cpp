@@ -8,7 +8,8 @@ namespace illum {
 
 Params::Params(nlohmann::json object, std::string origin, std::string path) {
   if (!object.is_object())
-    throw Error(fmt::format("{}: {} must be a JSON object", origin, path.empty() ? "top level" : path));
+    throw Error(
+        fmt::format("{}: {} must be a JSON object", origin, path.empty() ? "top level" : path));
   state_->json = std::move(object);
   state_->origin = std::move(origin);
   state_->path = std::move(path);
@@ -30,10 +31,13 @@ Params Params::from_file(const std::string& json_path) {
   return Params(std::move(j), json_path);
 }
 
-bool Params::has(const std::string& key) const { return state_->json.contains(key); }
+bool Params::has(const std::string& key) const {
+  return state_->json.contains(key);
+}
 
 std::string Params::where(const std::string& key) const {
-  return fmt::format("{}: '{}{}'", state_->origin, state_->path.empty() ? "" : state_->path + ".", key);
+  return fmt::format("{}: '{}{}'", state_->origin, state_->path.empty() ? "" : state_->path + ".",
+                     key);
 }
 
 const nlohmann::json& Params::at(const std::string& key) const {
@@ -43,7 +47,9 @@ const nlohmann::json& Params::at(const std::string& key) const {
   return *it;
 }
 
-void Params::mark_used(const std::string& key) const { state_->used.insert(key); }
+void Params::mark_used(const std::string& key) const {
+  state_->used.insert(key);
+}
 
 namespace {
 float finite_number(const nlohmann::json& v, const std::string& where) {

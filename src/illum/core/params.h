@@ -68,13 +68,21 @@ class Params {
   std::shared_ptr<State> state_ = std::make_shared<State>();
 };
 
-template <> bool Params::get<bool>(const std::string& key) const;
-template <> int Params::get<int>(const std::string& key) const;
-template <> float Params::get<float>(const std::string& key) const;
-template <> std::string Params::get<std::string>(const std::string& key) const;
-template <> vec2 Params::get<vec2>(const std::string& key) const;
-template <> vec3 Params::get<vec3>(const std::string& key) const;
-template <> std::vector<float> Params::get<std::vector<float>>(const std::string& key) const;
-template <> std::vector<std::string> Params::get<std::vector<std::string>>(const std::string& key) const;
+template <>
+bool Params::get<bool>(const std::string& key) const;
+template <>
+int Params::get<int>(const std::string& key) const;
+template <>
+float Params::get<float>(const std::string& key) const;
+template <>
+std::string Params::get<std::string>(const std::string& key) const;
+template <>
+vec2 Params::get<vec2>(const std::string& key) const;
+template <>
+vec3 Params::get<vec3>(const std::string& key) const;
+template <>
+std::vector<float> Params::get<std::vector<float>>(const std::string& key) const;
+template <>
+std::vector<std::string> Params::get<std::vector<std::string>>(const std::string& key) const;
 
 }  // namespace illum

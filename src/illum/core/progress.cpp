@@ -9,12 +9,19 @@
 namespace illum {
 
 Progress::Progress(std::string label, int64_t total, bool enabled)
-    : label_(std::move(label)), total_(std::max<int64_t>(total, 1)), enabled_(enabled),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+    : label_(std::move(label)),
+      total_(std::max<int64_t>(total, 1)),
+      enabled_(enabled),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {}
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+  finish();
+}
 
-bool Progress::stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
+bool Progress::stderr_is_terminal() {
+  return isatty(STDERR_FILENO) == 1;
+}
 
 std::string Progress::format_seconds(double s) {
   // Below 59.95 s the one-decimal form cannot round up to "60.0s".
@@ -37,7 +44,8 @@ void Progress::advance(int64_t amount) {
 }
 
 void Progress::draw(int64_t done) {
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double frac = std::min(1.0, static_cast<double>(done) / static_cast<double>(total_));
   const int width = 30;
   const int filled = static_cast<int>(frac * width);

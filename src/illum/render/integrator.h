@@ -17,11 +17,11 @@ namespace illum {
 struct RenderOptions {
   int width = 512;
   int height = 512;
-  int spp = 16;           // samples per pixel (progressive integrators: the budget)
-  uint64_t seed = 0;      // same seed + same thread count → same image
-  int threads = 0;        // 0 = all cores
+  int spp = 16;                // samples per pixel (progressive integrators: the budget)
+  uint64_t seed = 0;           // same seed + same thread count → same image
+  int threads = 0;             // 0 = all cores
   double time_budget_s = 0.0;  // > 0: stop after this long (progressive integrators)
-  bool progress = true;   // show a progress bar when stderr is a terminal
+  bool progress = true;        // show a progress bar when stderr is a terminal
 };
 
 // Largest accepted image side; larger requests are refused (memory and time guard).
@@ -34,7 +34,8 @@ class Integrator {
   static std::unique_ptr<Integrator> create(const std::string& name, const Params& params);
   static std::vector<std::string> names();
 
-  virtual Image render(const RayTracer& tracer, const Camera& camera, const RenderOptions& options) = 0;
+  virtual Image render(const RayTracer& tracer, const Camera& camera,
+                       const RenderOptions& options) = 0;
 };
 
 }  // namespace illum

@@ -26,7 +26,9 @@ Camera Camera::framing(const Bounds3& bounds) {
   return camera;
 }
 
-mat4 Camera::view_matrix() const { return glm::lookAtRH(position, look_at, up); }
+mat4 Camera::view_matrix() const {
+  return glm::lookAtRH(position, look_at, up);
+}
 
 mat4 Camera::projection_matrix(float aspect, float z_near, float z_far) const {
   mat4 p = glm::perspectiveRH_ZO(fov_y, aspect, z_near, z_far);

@@ -1,8 +1,8 @@
 // illum's own scene files (*.illum.json): geometry from OBJ/glTF files plus the lights,
 // camera, environment and settings those formats lack. Read through Params, so every
 // unknown key is an error naming the file and the key. Format: docs/scene-format.md.
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "illum/core/error.h"
@@ -269,9 +269,10 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
         const float v = env.radiance.data()[i];
         if (!std::isfinite(v) || v < 0.0f) {
           const size_t texel = i / static_cast<size_t>(env.radiance.channels());
-          throw Error(fmt::format("{}: environment map '{}' has a non-finite or negative value at texel ({}, {})",
-                                  e.where("file"), env.path, texel % env.radiance.width(),
-                                  texel / env.radiance.width()));
+          throw Error(fmt::format(
+              "{}: environment map '{}' has a non-finite or negative value at texel ({}, {})",
+              e.where("file"), env.path, texel % env.radiance.width(),
+              texel / env.radiance.width()));
         }
       }
     } else {

@@ -24,8 +24,8 @@ struct Texture {
 };
 
 enum class MaterialType {
-  kLambert,     // f = albedo / π
-  kPhong,       // energy-normalized: albedo/π + specular·(n+2)/(2π)·cos^n(α) (α to the mirror direction)
+  kLambert,  // f = albedo / π
+  kPhong,  // energy-normalized: albedo/π + specular·(n+2)/(2π)·cos^n(α) (α to the mirror direction)
   kBlinn,       // energy-normalized: albedo/π + specular·(n+8)/(8π)·cos^n(θh)
   kMirror,      // perfect specular reflection scaled by `specular`
   kDielectric,  // smooth glass: Fresnel reflection + Snell refraction, index `ior`
@@ -51,7 +51,7 @@ struct Material {
   int emission_texture = kNoTexture;   // multiplies emission
   int normal_texture = kNoTexture;     // tangent-space normal map (linear, [0,1] → [-1,1])
   float normal_scale = 1.0f;
-  float opacity = 1.0f;                // 1 = opaque (kept for real-time; offline treats as opaque)
+  float opacity = 1.0f;  // 1 = opaque (kept for real-time; offline treats as opaque)
 
   bool is_emissive() const { return !is_black(emission); }
   bool is_specular() const {  // delta BSDF: no next-event estimation possible
@@ -95,12 +95,12 @@ struct Light {
   std::string name;
   LightType type = LightType::kPoint;
   vec3 position{0.0f};
-  vec3 direction{0.0f, -1.0f, 0.0f};  // spot axis / direction the directional light travels
-  Color intensity{0.0f};              // point, spot: W/sr
+  vec3 direction{0.0f, -1.0f, 0.0f};       // spot axis / direction the directional light travels
+  Color intensity{0.0f};                   // point, spot: W/sr
   float cone_half_angle = radians(45.0f);  // spot: θc, hard edge
-  Color irradiance{0.0f};             // directional: W/m²
-  int instance = -1;                  // area: instance whose emissive triangles emit
-  float range = 0.0f;                 // real-time culling radius r in max(1−(d/r)², 0); 0 = none
+  Color irradiance{0.0f};                  // directional: W/m²
+  int instance = -1;                       // area: instance whose emissive triangles emit
+  float range = 0.0f;  // real-time culling radius r in max(1−(d/r)², 0); 0 = none
 
   float cos_cutoff() const { return std::cos(cone_half_angle); }
   // Ω = 2π(1 − cos θc): the spot's cone solid angle.
