@@ -77,6 +77,14 @@ RendererOptions RendererOptions::from_params(const Params& p) {
 
 namespace {
 
+// One face's stencil state. Every pass here keeps the value on a stencil-test failure,
+// compares all 8 bits against reference 0; only pass/depth-fail ops, the compare and the
+// write mask differ.
+VkStencilOpState stencil_op(VkStencilOp pass, VkStencilOp depth_fail, VkCompareOp compare,
+                            uint32_t write_mask = 0xff) {
+  return {VK_STENCIL_OP_KEEP, pass, depth_fail, compare, 0xff, write_mask, 0};
+}
+
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kLdrFormat = VK_FORMAT_R8G8B8A8_UNORM;
 // Shadow maps hold distance/far and, for VSM only, its square: PCF needs half the bytes.
@@ -735,20 +743,10 @@ struct Renderer::Impl {
       st.cull = VK_CULL_MODE_NONE;
       st.color_write = false;
       st.stencil_test = true;
-      st.stencil_front = {VK_STENCIL_OP_KEEP,
-                          VK_STENCIL_OP_KEEP,
-                          VK_STENCIL_OP_DECREMENT_AND_WRAP,
-                          VK_COMPARE_OP_ALWAYS,
-                          0xff,
-                          0xff,
-                          0};
-      st.stencil_back = {VK_STENCIL_OP_KEEP,
-                         VK_STENCIL_OP_KEEP,
-                         VK_STENCIL_OP_INCREMENT_AND_WRAP,
-                         VK_COMPARE_OP_ALWAYS,
-                         0xff,
-                         0xff,
-                         0};
+      st.stencil_front =
+          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
+      st.stencil_back =
+          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
       light_stencil_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), st);
       gpu::GraphicsPipelineDesc lv = l;
       // Both faces, no depth test (works with the camera inside the sphere); a shaded pixel
@@ -757,13 +755,8 @@ struct Renderer::Impl {
       lv.depth_test = false;
       lv.additive_blend = true;
       lv.stencil_test = true;
-      lv.stencil_front = {VK_STENCIL_OP_KEEP,
-                          VK_STENCIL_OP_ZERO,
-                          VK_STENCIL_OP_KEEP,
-                          VK_COMPARE_OP_NOT_EQUAL,
-                          0xff,
-                          0xff,
-                          0};
+      lv.stencil_front =
+          stencil_op(VK_STENCIL_OP_ZERO, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_NOT_EQUAL);
       lv.stencil_back = lv.stencil_front;
       light_volume_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), lv);
       gpu::GraphicsPipelineDesc fs = l;
@@ -783,20 +776,10 @@ struct Renderer::Impl {
       v.depth_clamp = true;  // the back cap lies at infinity
       v.stencil_test = true;
       // z-fail (Carmack's reverse): count volume faces behind the visible surface.
-      v.stencil_front = {VK_STENCIL_OP_KEEP,
-                         VK_STENCIL_OP_KEEP,
-                         VK_STENCIL_OP_DECREMENT_AND_WRAP,
-                         VK_COMPARE_OP_ALWAYS,
-                         0xff,
-                         0xff,
-                         0};
-      v.stencil_back = {VK_STENCIL_OP_KEEP,
-                        VK_STENCIL_OP_KEEP,
-                        VK_STENCIL_OP_INCREMENT_AND_WRAP,
-                        VK_COMPARE_OP_ALWAYS,
-                        0xff,
-                        0xff,
-                        0};
+      v.stencil_front =
+          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
+      v.stencil_back =
+          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
       v.color_formats = {kHdrFormat};
       v.color_write = false;
       v.depth_format = depth_format;
@@ -809,13 +792,8 @@ struct Renderer::Impl {
       l.depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL;
       l.additive_blend = true;
       l.stencil_test = true;
-      l.stencil_front = {VK_STENCIL_OP_KEEP,
-                         VK_STENCIL_OP_KEEP,
-                         VK_STENCIL_OP_KEEP,
-                         VK_COMPARE_OP_EQUAL,
-                         0xff,
-                         0,
-                         0};
+      l.stencil_front =
+          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_EQUAL, /*write_mask=*/0);
       l.stencil_back = l.stencil_front;
       volume_light = gpu::Pipeline(context, scene_pipeline_layout.handle(), l);
     }
