@@ -170,33 +170,16 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
   return render_tiles(
       camera, tile_options, "photon", [&](const Ray& camera_ray, SobolSampler& sampler) {
         thread_local std::vector<PhotonNeighbor> scratch;
-        Color L(0.0f), beta(1.0f);
-        Ray ray = camera_ray;
-        for (int depth = 0; depth <= max_depth; ++depth) {
-          Hit hit;
-          if (!tracer.intersect(ray, &hit)) {
-            // Seen directly or through delta surfaces only: nothing else accounts for it.
-            if (lights.environment_light() >= 0)
-              L += beta * lights.environment_radiance(ray.direction);
-            break;
-          }
-          const SurfaceInteraction si = tracer.interaction(ray, hit);
-          L += beta * surface_emission(scene, si);
-          const Bsdf bsdf(scene, si);
-          const vec3 wo = -ray.direction;
-          if (!bsdf.is_delta()) {
-            L +=
-                beta * (direct(si, bsdf, wo, sampler, &scratch) + caustics(si, bsdf, wo, &scratch));
-            L += beta * (final_gather_ ? gather(si, bsdf, wo, sampler, &scratch)
-                                       : global(si, bsdf, wo, &scratch));
-            break;
-          }
-          const std::optional<BsdfSample> s = bsdf.sample(wo, sampler.next_1d(), sampler.next_2d());
-          if (!s || is_black(s->weight)) break;
-          beta *= s->weight;
-          ray = Ray{offset_ray_origin(si.p, si.ng, s->wi), s->wi};
-        }
-        return L;
+        return trace_to_first_diffuse(
+            tracer, lights, camera_ray, max_depth, sampler,
+            [&](const SurfaceInteraction& si, const Bsdf& bsdf, const vec3& wo, const Color&) {
+              // Named steps fix the order in which they draw sampler dimensions.
+              const Color direct_and_caustics =
+                  direct(si, bsdf, wo, sampler, &scratch) + caustics(si, bsdf, wo, &scratch);
+              const Color indirect = final_gather_ ? gather(si, bsdf, wo, sampler, &scratch)
+                                                   : global(si, bsdf, wo, &scratch);
+              return direct_and_caustics + indirect;
+            });
       });
 }
 

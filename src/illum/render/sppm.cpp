@@ -187,36 +187,21 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
           const vec2 jitter = sampler.next_2d();
           Ray ray = camera.generate_ray(static_cast<float>(x) + jitter.x,
                                         static_cast<float>(y) + jitter.y, width, height);
-          Color beta(1.0f), L(0.0f);
-          for (int depth = 0; depth <= max_depth; ++depth) {
-            Hit hit;
-            if (!tracer.intersect(ray, &hit)) {
-              if (lights.environment_light() >= 0)
-                L += beta * lights.environment_radiance(ray.direction);
-              break;
-            }
-            const SurfaceInteraction si = tracer.interaction(ray, hit);
-            L += beta * surface_emission(scene, si);
-            const Bsdf bsdf(scene, si);
-            const vec3 wo = -ray.direction;
-            if (!bsdf.is_delta()) {
-              const float u_light = sampler.next_1d();
-              L += beta *
-                   photon_direct_lighting(tracer, lights, si, bsdf, wo, u_light, sampler.next_2d());
-              px.valid = true;
-              px.p = si.p;
-              px.wo = wo;
-              px.ng = si.ng;
-              px.beta = beta;
-              px.bsdf = bsdf;
-              break;
-            }
-            const std::optional<BsdfSample> s =
-                bsdf.sample(wo, sampler.next_1d(), sampler.next_2d());
-            if (!s || is_black(s->weight)) break;
-            beta *= s->weight;
-            ray = Ray{offset_ray_origin(si.p, si.ng, s->wi), s->wi};
-          }
+          const Color L = trace_to_first_diffuse(tracer, lights, ray, max_depth, sampler,
+                                                 [&](const SurfaceInteraction& si, const Bsdf& bsdf,
+                                                     const vec3& wo, const Color& beta) {
+                                                   const float u_light = sampler.next_1d();
+                                                   const Color direct = photon_direct_lighting(
+                                                       tracer, lights, si, bsdf, wo, u_light,
+                                                       sampler.next_2d());
+                                                   px.valid = true;
+                                                   px.p = si.p;
+                                                   px.wo = wo;
+                                                   px.ng = si.ng;
+                                                   px.beta = beta;
+                                                   px.bsdf = bsdf;
+                                                   return direct;
+                                                 });
           if (is_finite(L)) px.direct += L;
         }
       }
