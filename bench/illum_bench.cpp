@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "illum/core/error.h"
+#include "illum/core/log.h"
 #include "suites.h"
 
 namespace {
@@ -21,6 +22,8 @@ void print_usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Installs illum's logger ("illum: [warning] ..." on stderr), as the illum program does.
+  illum::log::set_level(illum::log::Level::kWarn);
   if (argc < 2) {
     std::fputs("illum-bench: missing suite name (illum-bench --help lists them)\n", stderr);
     return 2;
