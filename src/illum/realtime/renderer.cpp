@@ -839,9 +839,10 @@ struct Renderer::Impl {
     }
   }
 
-  // One view of the scene into one layer of `target` (radial distance / far; VSM: its square).
-  void record_shadow_view(VkCommandBuffer c, GpuImage& target, uint32_t layer, int view,
-                          int light) {
+  // One view of the scene into one layer of `target` with `pipeline` (shadow_cube: radial
+  // distance / far, shadow_dir: orthographic depth; VSM: also its square).
+  void record_shadow_view(VkCommandBuffer c, const gpu::Pipeline& pipeline, GpuImage& target,
+                          uint32_t layer, int view, int light) {
     const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
     shadow_depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
                             kDepthAccess);
@@ -857,7 +858,7 @@ struct Renderer::Impl {
     info.pDepthAttachment = &depth_att;
     vkCmdBeginRendering(c, &info);
     set_viewport(c, r, r);
-    bind_scene(c, shadow_cube.handle());
+    bind_scene(c, pipeline.handle());
     PushConstants push{};
     push.view_index = view;
     push.light_index = light;
@@ -872,10 +873,10 @@ struct Renderer::Impl {
     }
     for (size_t s = 0; s < shadow_lights.size(); ++s)
       for (uint32_t f = 0; f < 6; ++f)
-        record_shadow_view(c, shadow_cubes, static_cast<uint32_t>(6 * s + f),
+        record_shadow_view(c, shadow_cube, shadow_cubes, static_cast<uint32_t>(6 * s + f),
                            static_cast<int>(6 * s + f), shadow_lights[s]);
     for (size_t s = 0; s < spot_lights.size(); ++s)
-      record_shadow_view(c, spot_maps, static_cast<uint32_t>(s),
+      record_shadow_view(c, shadow_cube, spot_maps, static_cast<uint32_t>(s),
                          static_cast<int>(6 * shadow_lights.size() + s), spot_lights[s]);
     for (GpuImage* target : {&shadow_cubes, &spot_maps}) {
       if (!*target) continue;
@@ -885,30 +886,10 @@ struct Renderer::Impl {
   }
 
   void record_cascades(VkCommandBuffer c) {
-    const uint32_t r = static_cast<uint32_t>(options.shadow_resolution);
     cascades.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
-    for (int k = 0; k < kCascades; ++k) {
-      shadow_depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
-                              kDepthAccess);
-      VkRenderingAttachmentInfo color = color_attachment(
-          cascades.layer_view(static_cast<uint32_t>(k)), true, {{1.0f, 1.0f, 0.0f, 0.0f}});
-      VkRenderingAttachmentInfo depth_att = depth_attachment(shadow_depth.view(), true);
-      depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      info.renderArea = {{0, 0}, {r, r}};
-      info.layerCount = 1;
-      info.colorAttachmentCount = 1;
-      info.pColorAttachments = &color;
-      info.pDepthAttachment = &depth_att;
-      vkCmdBeginRendering(c, &info);
-      set_viewport(c, r, r);
-      bind_scene(c, shadow_dir.handle());
-      PushConstants push{};
-      push.view_index = cascade_view_offset + k;
-      push.light_index = cascade_light;
-      draw_scene(c, push, false);
-      vkCmdEndRendering(c);
-    }
+    for (int k = 0; k < kCascades; ++k)
+      record_shadow_view(c, shadow_dir, cascades, static_cast<uint32_t>(k), cascade_view_offset + k,
+                         cascade_light);
     cascades.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, kSampleStage,
                         VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
   }
