@@ -15,16 +15,9 @@
 namespace illum::realtime {
 namespace {
 
-constexpr int kSize = 128;
+using test::context;
 
-gpu::Context& context() {
-  static gpu::Context* c = [] {
-    gpu::ContextOptions o;
-    o.validation = true;
-    return new gpu::Context(o);
-  }();
-  return *c;
-}
+constexpr int kSize = 128;
 
 class RealtimeTest : public ::testing::Test {
  protected:

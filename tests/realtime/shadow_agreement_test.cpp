@@ -14,16 +14,9 @@
 namespace illum::realtime {
 namespace {
 
-constexpr int kSize = 128;
+using test::context;
 
-gpu::Context& context() {
-  static gpu::Context* c = [] {
-    gpu::ContextOptions o;
-    o.validation = true;
-    return new gpu::Context(o);
-  }();
-  return *c;
-}
+constexpr int kSize = 128;
 
 // Ray-traced mask: 1 where the first light is blocked or behind the surface; surface ids per
 // pixel for the edge band.

@@ -7,9 +7,21 @@
 #include <vector>
 
 #include "illum/core/image.h"
+#include "illum/gpu/context.h"
 #include "illum/scene/scene.h"
 
 namespace illum::test {
+
+// One Vulkan context per test binary, validation layers on (the tests assert that it
+// reported no message).
+inline gpu::Context& context() {
+  static gpu::Context* c = [] {
+    gpu::ContextOptions o;
+    o.validation = true;
+    return new gpu::Context(o);
+  }();
+  return *c;
+}
 
 inline void add_quad(Scene& s, vec3 a, vec3 b, vec3 c, vec3 d, int material) {
   Mesh m;
