@@ -93,4 +93,17 @@ inline Light area_light(int instance) {
   return l;
 }
 
+// A closed, inward-facing Lambert sphere of albedo a emitting Le = 1 everywhere: the
+// radiance is Le/(1−a) at every point and in every direction (white furnace).
+inline Scene furnace_sphere(float a, int rings, int segments) {
+  Scene s;
+  Material m;
+  m.albedo = Color(a);
+  m.emission = Color(1.0f);
+  const int mat = add_material(s, m);
+  const int inst = add_triangles(s, inward_sphere(vec3(0), 1.0f, rings, segments), mat, "sphere");
+  s.lights.push_back(area_light(inst));
+  return s;
+}
+
 }  // namespace illum::test

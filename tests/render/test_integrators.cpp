@@ -57,14 +57,7 @@ PixelStats pixel_stats(const Image& img, int channel = 1) {
 TEST(PathIntegrator, WhiteFurnaceSphere) {
   // Camera inside a closed Lambert sphere of albedo a emitting Le everywhere: L = Le/(1−a).
   for (const float a : {0.0f, 0.5f, 0.8f}) {
-    Scene s;
-    Material m;
-    m.albedo = Color(a);
-    m.emission = Color(1.0f);
-    const int mat = test::add_material(s, m);
-    const int inst =
-        test::add_triangles(s, test::inward_sphere(vec3(0), 1.0f, 12, 24), mat, "sphere");
-    s.lights.push_back(test::area_light(inst));
+    const Scene s = test::furnace_sphere(a, 12, 24);
     Camera cam;
     cam.position = vec3(0.1f, -0.2f, 0.05f);
     cam.look_at = vec3(1, 0.3f, 0.2f);

@@ -62,18 +62,8 @@ SeedStats seed_stats(const std::vector<double>& v) {
 constexpr double kT5 = 6.869;
 constexpr int kSeeds = 6;
 
-// A closed, inward-facing Lambert sphere of albedo a emitting Le = 1 everywhere: the
-// radiance is Le/(1−a) at every point and in every direction (white furnace).
 Scene furnace_sphere(float a) {
-  Scene s;
-  Material m;
-  m.albedo = Color(a);
-  m.emission = Color(1.0f);
-  const int mat = test::add_material(s, m);
-  const int inst =
-      test::add_triangles(s, test::inward_sphere(vec3(0), 1.0f, 24, 48), mat, "sphere");
-  s.lights.push_back(test::area_light(inst));
-  return s;
+  return test::furnace_sphere(a, 24, 48);
 }
 
 Camera inside_camera() {
