@@ -144,24 +144,31 @@ VkImageAspectFlags GpuImage::aspect() const {
                                    : VK_IMAGE_ASPECT_DEPTH_BIT;
 }
 
-void GpuImage::transition(VkCommandBuffer cmd, VkImageLayout layout, VkPipelineStageFlags2 stage,
-                          VkAccessFlags2 access) {
+void image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range,
+                   VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 src_stage,
+                   VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage,
+                   VkAccessFlags2 dst_access) {
   VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-  b.srcStageMask =
-      stage_ == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT : stage_;
-  b.srcAccessMask = access_;
-  b.dstStageMask = stage;
-  b.dstAccessMask = access;
-  b.oldLayout = layout_;
-  b.newLayout = layout;
-  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image_;
-  b.subresourceRange = {aspect(), 0, desc_.mips, 0, desc_.layers};
+  b.srcStageMask = src_stage;
+  b.srcAccessMask = src_access;
+  b.dstStageMask = dst_stage;
+  b.dstAccessMask = dst_access;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = range;
   VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
   dep.imageMemoryBarrierCount = 1;
   dep.pImageMemoryBarriers = &b;
   vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+void GpuImage::transition(VkCommandBuffer cmd, VkImageLayout layout, VkPipelineStageFlags2 stage,
+                          VkAccessFlags2 access) {
+  image_barrier(cmd, image_, {aspect(), 0, desc_.mips, 0, desc_.layers}, layout_, layout,
+                stage_ == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT : stage_,
+                access_, stage, access);
   layout_ = layout;
   stage_ = stage;
   access_ = access;
@@ -228,20 +235,10 @@ void GpuImage::upload(const Image& image, uint32_t layer) {
     // Mips by successive linear blits: each level from the one above.
     int32_t w = static_cast<int32_t>(desc_.width), h = static_cast<int32_t>(desc_.height);
     for (uint32_t m = 1; m < desc_.mips; ++m) {
-      VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-      b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-      b.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-      b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-      b.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-      b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-      b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      b.image = image_;
-      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, 1, layer, 1};
-      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-      dep.imageMemoryBarrierCount = 1;
-      dep.pImageMemoryBarriers = &b;
-      vkCmdPipelineBarrier2(cmd, &dep);
+      image_barrier(cmd, image_, {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, 1, layer, 1},
+                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
       VkImageBlit blit{};
       blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, m - 1, layer, 1};
       blit.srcOffsets[1] = {w, h, 1};
@@ -253,20 +250,10 @@ void GpuImage::upload(const Image& image, uint32_t layer) {
                      VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
     }
     if (desc_.mips > 1) {  // bring the source levels back so the whole image shares a layout
-      VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-      b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-      b.srcAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-      b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-      b.dstAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-      b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-      b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      b.image = image_;
-      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, desc_.mips - 1, layer, 1};
-      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-      dep.imageMemoryBarrierCount = 1;
-      dep.pImageMemoryBarriers = &b;
-      vkCmdPipelineBarrier2(cmd, &dep);
+      image_barrier(cmd, image_, {VK_IMAGE_ASPECT_COLOR_BIT, 0, desc_.mips - 1, layer, 1},
+                    VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                    VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                    VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     }
     transition(cmd, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,

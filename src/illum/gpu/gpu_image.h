@@ -27,6 +27,14 @@ bool is_depth_format(VkFormat format);
 bool has_stencil(VkFormat format);
 uint32_t format_bytes(VkFormat format);  // per texel, for the colour formats illum uses
 
+// One synchronization2 image barrier over `range` (layout change plus execution and memory
+// dependency). GpuImage::transition uses it with the tracked state; swapchain images, which
+// GpuImage does not own, call it directly.
+void image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceRange& range,
+                   VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 src_stage,
+                   VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage,
+                   VkAccessFlags2 dst_access);
+
 class GpuImage {
  public:
   GpuImage() = default;
