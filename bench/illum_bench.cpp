@@ -22,7 +22,7 @@ void print_usage(std::FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Installs illum's logger ("illum: [warning] ..." on stderr), as the illum program does.
+  // Warnings and errors only, the illum program's default level.
   illum::log::set_level(illum::log::Level::kWarn);
   if (argc < 2) {
     std::fputs("illum-bench: missing suite name (illum-bench --help lists them)\n", stderr);
