@@ -10,7 +10,7 @@ packages=(
   libtinygltf-dev libtinyobjloader-dev libstb-dev libopenexr-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libvulkan-dev glslc glslang-tools spirv-tools vulkan-validationlayers
-  mesa-vulkan-drivers vulkan-tools libglfw3-dev libimgui-dev xvfb xauth
+  mesa-vulkan-drivers vulkan-tools libglfw3-dev libimgui-dev xvfb xauth xdotool
   libgtest-dev libgmock-dev libbenchmark-dev clang-format
 )
 

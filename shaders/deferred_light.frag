@@ -1,7 +1,8 @@
 #version 450
 #include "gbuffer.glsl"
-// One light over the G-buffer (the light-volume path, -p deferred_lighting=volumes): the
-// same lighting as the forward path and the compute pass.
+// One light over the G-buffer (light volumes, -p deferred_lighting=volumes; and the
+// full-screen pass of stencil shadow volumes, where the stencil masks the shadow): the same
+// lighting as the forward path and the compute pass.
 layout(location = 0) out vec4 out_color;
 
 void main() {

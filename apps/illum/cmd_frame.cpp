@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "illum/core/log.h"
 #include "illum/gpu/context.h"
+#include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/scene/load.h"
 
@@ -31,6 +32,7 @@ struct FrameArgs {
   int frames = 1, warmup = 0;
   std::string json;
   std::string device;
+  std::string lightmap;  // folder written by `illum bake`
   float exposure = 1.0f;
   bool fixed_exposure = false;
   std::vector<std::string> params;
@@ -49,7 +51,12 @@ void run_frame(const FrameArgs& args) {
   if (args.warmup < 0) throw Error(fmt::format("--warmup {} must be ≥ 0", args.warmup));
 
   nlohmann::json j = key_values_to_json(args.params);
-  const Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene);
+  realtime::Lightmap lightmap;
+  if (!args.lightmap.empty())
+    lightmap = realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
+  if (!j.contains("ambient"))
+    j["ambient"] = {scene.settings.ambient.r, scene.settings.ambient.g, scene.settings.ambient.b};
   j["technique"] = args.technique;
   j["shadows"] = args.shadows;
   j["tone_mapper"] = args.tonemap;
@@ -69,6 +76,7 @@ void run_frame(const FrameArgs& args) {
   gpu::Context context(context_options);
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   realtime::Renderer renderer(context, scene, options);
+  if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
 
   std::map<std::string, std::vector<double>> pass_ms;
   std::vector<std::string> order;
@@ -151,7 +159,8 @@ void add_frame_command(CLI::App& app) {
   cmd->add_option("-t,--technique", args->technique, "forward or deferred")
       ->check(CLI::IsMember({"forward", "deferred"}))
       ->capture_default_str();
-  cmd->add_option("--shadows", args->shadows, "none, map (PCF cube maps), vsm, volume (stencil)")
+  cmd->add_option("--shadows", args->shadows,
+                  "none, map (PCF cube maps), vsm, volume (stencil; forward or deferred)")
       ->check(CLI::IsMember({"none", "map", "vsm", "volume"}))
       ->capture_default_str();
   cmd->add_option("--tonemap", args->tonemap, "clamp, reinhard, aces, agx")
@@ -166,14 +175,18 @@ void add_frame_command(CLI::App& app) {
   cmd->add_option("--warmup", args->warmup, "untimed frames first")->capture_default_str();
   cmd->add_option("--json", args->json, "write the timings as JSON to this file");
   cmd->add_option("--device", args->device, "pick the Vulkan device whose name contains this");
+  cmd->add_option("--lightmap", args->lightmap,
+                  "show a light-map folder written by `illum bake` (replaces the lights it holds)");
   cmd->add_option("--exposure", args->exposure, "exposure multiplier")->capture_default_str();
   cmd->add_flag("--fixed-exposure", args->fixed_exposure,
                 "no auto-exposure from the log-average luminance");
   cmd->add_option(
       "-p,--param", args->params,
       "renderer option key=value (repeatable): shadow_resolution, pcf_taps, pcf_radius, "
-      "shadow_bias, vsm_tau, shadow_update_period, half_lambert, ambient=[r,g,b], key, "
-      "bloom_strength, bloom_threshold, deferred_lighting=compute|volumes");
+      "shadow_bias, vsm_tau, shadow_update_period, volume_back_faces, silhouettes=gpu|cpu, "
+      "half_lambert, ambient=[r,g,b] (default: the scene's settings.ambient), key, bloom_strength, "
+      "bloom_threshold, "
+      "deferred_lighting=compute|volumes");
   cmd->callback([args] { run_frame(*args); });
 }
 

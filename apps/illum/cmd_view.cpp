@@ -1,12 +1,20 @@
 // `illum view SCENE`: the real-time renderer in a window (GLFW + Vulkan swapchain) with
 // keyboard/mouse camera controls and an ImGui panel of every renderer parameter.
-// --frames N closes it after N frames and --screenshot writes the last one (tests, docs).
+// --frames N / --seconds S close it, --screenshot writes the last frame and --camera-out
+// the camera as left, as a scene file's "camera" object (tests, docs, scene authoring).
 // Without a window (no display), it says so and renders one frame headless instead.
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "commands.h"
 #include "illum/gpu/context.h"
+#include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/viewer.h"
 #include "illum/scene/load.h"
@@ -23,8 +31,34 @@ struct ViewArgs {
   int width = 1280, height = 720;
   std::string fallback_output = "view.png";
   int frames = 0;
+  double seconds = 0.0;
   std::string screenshot;
+  std::string camera_out;
+  std::string lightmap;  // folder written by `illum bake`
 };
+
+// One line of JSON, written through a hidden temporary name renamed on success.
+void write_camera(const std::string& path, const Camera& camera) {
+  const std::filesystem::path target(path);
+  const std::filesystem::path tmp =
+      target.parent_path() / fmt::format(".{}.{}.tmp", target.filename().string(), ::getpid());
+  {
+    std::ofstream out(tmp);
+    out << realtime::camera_json(camera) << '\n';
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw Error(fmt::format("--camera-out {}: cannot write the file", path));
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(fmt::format("--camera-out {}: cannot write the file ({})", path, ec.message()));
+  }
+}
 
 void run_view(const ViewArgs& args) {
   check_output_path(args.fallback_output);
@@ -33,25 +67,46 @@ void run_view(const ViewArgs& args) {
     if (image_format_from_path(args.screenshot) != ImageFormat::kPng)
       throw Error(fmt::format("--screenshot {}: must be a .png file", args.screenshot));
   }
+  if (!args.camera_out.empty()) {
+    const std::filesystem::path p(args.camera_out);
+    if (p.extension() != ".json")
+      throw Error(fmt::format("--camera-out {}: must be a .json file", args.camera_out));
+    if (!p.parent_path().empty() && !std::filesystem::is_directory(p.parent_path()))
+      throw Error(fmt::format("--camera-out {}: output folder '{}' does not exist", args.camera_out,
+                              p.parent_path().string()));
+  }
   if (args.frames < 0) throw Error(fmt::format("--frames {} must be ≥ 0", args.frames));
-  const Scene scene = load_scene(args.scene);
+  if (!std::isfinite(args.seconds) || args.seconds < 0.0)
+    throw Error(fmt::format("--seconds {} must be a finite number ≥ 0", args.seconds));
+  Scene scene = load_scene(args.scene);
+  realtime::ViewerOptions viewer;
+  if (!args.lightmap.empty())
+    viewer.lightmap =
+        realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
   realtime::RendererOptions options;
+  options.ambient = scene.settings.ambient;
   options.width = args.width;
   options.height = args.height;
   options.technique = realtime::technique_from_string(args.technique);
   options.shadows = realtime::shadow_mode_from_string(args.shadows);
   options.tone_mapper = realtime::tone_map_op_from_string(args.tonemap);
   std::string reason;
-  realtime::ViewerOptions viewer;
   viewer.frames = args.frames;
+  viewer.seconds = args.seconds;
   viewer.screenshot = args.screenshot;
-  if (realtime::run_viewer(scene, options, viewer, &reason)) return;
-  std::fprintf(stderr, "illum view: no window available (%s); rendering one frame headless to %s\n",
-               reason.c_str(), args.fallback_output.c_str());
-  gpu::Context context;
-  realtime::Renderer renderer(context, scene, options);
-  renderer.render(scene.camera ? *scene.camera : Camera::framing(scene.bounds()));
-  write_image(args.fallback_output, renderer.ldr());
+  Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  if (!realtime::run_viewer(scene, options, viewer, &camera, &reason)) {
+    std::fprintf(stderr,
+                 "illum view: no window available (%s); rendering one frame headless to %s\n",
+                 reason.c_str(), args.fallback_output.c_str());
+    gpu::Context context;
+    realtime::Renderer renderer(context, scene, options);
+    if (viewer.lightmap.kind != realtime::LightmapKind::kNone)
+      renderer.set_lightmap(viewer.lightmap);
+    renderer.render(camera);
+    write_image(args.fallback_output, renderer.ldr());
+  }
+  if (!args.camera_out.empty()) write_camera(args.camera_out, camera);
 }
 
 }  // namespace
@@ -81,8 +136,17 @@ void add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "close the window after N frames (0: run until closed)")
       ->capture_default_str();
+  cmd->add_option("--seconds", args->seconds,
+                  "close the window after S seconds (0: run until closed)")
+      ->capture_default_str();
   cmd->add_option("--screenshot", args->screenshot,
                   "write the last presented frame, panel included, to this .png");
+  cmd->add_option("--lightmap", args->lightmap,
+                  "show a light-map folder written by `illum bake` (replaces the lights it holds)");
+  cmd->add_option("--camera-out", args->camera_out,
+                  "at exit, write the camera as one line of JSON to this .json file: the "
+                  "scene file's \"camera\" object (position, look_at, up, fov_y_deg), to "
+                  "paste into a .illum.json (the C key prints it while running)");
   cmd->callback([args] { run_view(*args); });
 }
 

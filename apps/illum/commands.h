@@ -13,6 +13,7 @@ namespace illum::cli {
 
 void add_info_command(CLI::App& app);
 void add_render_command(CLI::App& app);
+void add_bake_command(CLI::App& app);
 #ifdef ILLUM_HAVE_FRAME_COMMAND
 void add_frame_command(CLI::App& app);
 #endif

@@ -6,10 +6,14 @@
 #include <algorithm>
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "illum/core/color.h"
+#include "illum/core/params.h"
 #include "illum/core/tonemap.h"
 #include "illum/gpu/context.h"
 #include "illum/realtime/renderer.h"
+#include "illum/realtime/stencil_shadows.h"
 #include "test_scene.h"
 
 namespace illum::realtime {
@@ -229,6 +233,93 @@ TEST_F(RealtimeTest, UnknownOptionNamesAreErrors) {
   EXPECT_THROW(tone_map_op_from_string("filmic"), Error);
   EXPECT_THROW(shadow_mode_from_string("soft"), Error);
   EXPECT_THROW(technique_from_string("raytraced"), Error);
+  EXPECT_THROW(silhouette_source_from_string("fast"), Error);
+  const Params params(nlohmann::json{{"silhouettes", "fast"}}, "test");
+  EXPECT_THROW(RendererOptions::from_params(params), Error);
+}
+
+// GPU silhouettes keep each light's worst case (24 vertices of 16 bytes a triangle); a scene
+// beyond one storage buffer is refused with a message that names the CPU fallback.
+TEST_F(RealtimeTest, GpuSilhouettesRefuseScenesBeyondOneStorageBuffer) {
+  VkPhysicalDeviceLimits limits{};
+  limits.maxStorageBufferRange = 1000;
+  limits.maxComputeWorkGroupCount[0] = 65535;
+  EXPECT_EQ(gpu_volume_bytes(2, limits, "test"), 2u * 24 * 16);
+  try {
+    gpu_volume_bytes(3, limits, "test");
+    ADD_FAILURE() << "1152 bytes exceed a 1000-byte storage buffer";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("silhouettes=cpu"), std::string::npos) << e.what();
+  }
+  limits.maxStorageBufferRange = 1u << 30;
+  limits.maxComputeWorkGroupCount[0] = 1;
+  EXPECT_EQ(gpu_volume_bytes(64, limits, "test"), 64u * 24 * 16);  // one group of 64
+  EXPECT_THROW(gpu_volume_bytes(65, limits, "test"), Error);
+  // The device this runs on holds the test scenes' volumes.
+  EXPECT_NO_THROW(gpu_volume_bytes(1000, context().limits(), context().device_name()));
+}
+
+// Stencil shadows time their passes under fixed names in both techniques: the GPU
+// extraction ("silhouettes") or the CPU build ("cpu:silhouettes") only when the volumes must
+// change (first frame, moved lights, the back-facing-caster option), then per light
+// "stencil_volumes" and "volume_lighting".
+TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
+  const Scene scene = test::cornell_point_light();
+  for (const Technique technique : {Technique::kForward, Technique::kDeferred})
+    for (const SilhouetteSource source : {SilhouetteSource::kGpu, SilhouetteSource::kCpu}) {
+      RendererOptions o;
+      o.width = o.height = 32;
+      o.technique = technique;
+      o.shadows = ShadowMode::kVolume;
+      o.silhouettes = source;
+      Renderer renderer(context(), scene, o);
+      auto names = [&] {
+        std::vector<std::string> n;
+        for (const auto& t : renderer.pass_times()) n.push_back(t.name);
+        return n;
+      };
+      const bool gpu = source == SilhouetteSource::kGpu;
+      const std::string shading = technique == Technique::kForward ? "forward" : "gbuffer";
+      std::vector<std::string> steady = {shading, "stencil_volumes", "volume_lighting", "luminance",
+                                         "tonemap"};
+      std::vector<std::string> rebuilt = steady;
+      if (gpu)
+        rebuilt.insert(rebuilt.begin(), "silhouettes");
+      else
+        rebuilt.push_back("cpu:silhouettes");
+      const std::string label = shading + (gpu ? " gpu" : " cpu");
+      // Without timestamps only the CPU entry is listed.
+      auto expect = [&](const std::vector<std::string>& want) {
+        if (context().timestamps()) {
+          EXPECT_EQ(names(), want) << label;
+        } else {
+          const bool cpu_entry =
+              std::find(want.begin(), want.end(), "cpu:silhouettes") != want.end();
+          EXPECT_EQ(names().size(), cpu_entry ? 1u : 0u) << label;
+        }
+      };
+      renderer.render(*scene.camera);
+      expect(rebuilt);
+      const Image first = renderer.hdr();
+      renderer.render(*scene.camera);
+      expect(steady);
+      // The volumes kept from the first frame still shadow the same pixels.
+      const Image second = renderer.hdr();
+      EXPECT_EQ(first.data(), second.data()) << label;
+      std::vector<Light> lights = scene.lights;
+      lights[0].position.x += 0.1f;
+      renderer.update_lights(lights);
+      renderer.render(*scene.camera);
+      expect(rebuilt);
+      RendererOptions back = o;
+      back.volume_back_faces = true;
+      ASSERT_TRUE(renderer.set_options(back));
+      renderer.render(*scene.camera);
+      expect(rebuilt);
+      RendererOptions other = back;
+      other.silhouettes = gpu ? SilhouetteSource::kCpu : SilhouetteSource::kGpu;
+      EXPECT_FALSE(renderer.set_options(other)) << "the silhouette source is structural";
+    }
 }
 
 }  // namespace
@@ -248,12 +339,13 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   second.intensity = Color(0.2f, 0.3f, 0.5f);
   second.range = 0.6f;  // exercises the light-volume path and the radius window
   scene.lights.push_back(second);
-  auto render = [&](Technique t, DeferredLighting lighting = DeferredLighting::kCompute) {
+  auto render = [&](Technique t, DeferredLighting lighting = DeferredLighting::kCompute,
+                    ShadowMode shadows = ShadowMode::kMap) {
     RendererOptions o;
     o.width = o.height = kSize;
     o.technique = t;
     o.deferred_lighting = lighting;
-    o.shadows = ShadowMode::kMap;
+    o.shadows = shadows;
     o.shadow_resolution = 256;
     Renderer r(context(), scene, o);
     r.render(*scene.camera);
@@ -285,6 +377,20 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
                 static_cast<double>(a.within) / a.compared, a.compared, a.mean_rel);
     EXPECT_GE(static_cast<double>(a.within) / a.compared, 0.99) << name;
   }
+  // Stencil shadow volumes: the deferred path counts the same volumes against the G-buffer
+  // depth and lights with the same functions, so its image is the forward one (shadowed
+  // pixels included: both stencil counts read one depth buffer built the same way).
+  const Image forward_volumes =
+      render(Technique::kForward, DeferredLighting::kCompute, ShadowMode::kVolume);
+  const Image deferred_volumes =
+      render(Technique::kDeferred, DeferredLighting::kCompute, ShadowMode::kVolume);
+  const Agreement a =
+      compare(deferred_volumes, forward_volumes, edge, 0.01f, 0.01f * static_cast<float>(mean));
+  std::printf(
+      "deferred vs forward, stencil shadow volumes: %.4f of %zu pixels within 1%% (mean "
+      "rel %.5f)\n",
+      static_cast<double>(a.within) / a.compared, a.compared, a.mean_rel);
+  EXPECT_GE(static_cast<double>(a.within) / a.compared, 0.99) << "volumes";
 }
 
 }  // namespace

@@ -245,7 +245,7 @@ TEST(LoadErrors, JsonSceneFeatures) {
     "materials": {"default": {"type": "mirror", "specular": [0.9, 0.9, 0.9], "emission": [0, 0, 1]}},
     "environment": {"constant": [0.1, 0.2, 0.3], "scale": 2},
     "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov_y_deg": 50},
-    "settings": {"width": 64, "height": 32, "spp": 4, "max_bounces": 3}
+    "settings": {"width": 64, "height": 32, "spp": 4, "max_bounces": 3, "ambient": [0.1, 0, 0.2]}
   })");
   const Scene scene = load_scene(path);
   EXPECT_EQ(scene.triangle_count(), 1u);
@@ -270,6 +270,7 @@ TEST(LoadErrors, JsonSceneFeatures) {
   EXPECT_EQ(scene.environment->scale, 2.0f);
   EXPECT_EQ(scene.settings.width, 64);
   EXPECT_EQ(scene.settings.max_bounces, 3);
+  EXPECT_EQ(scene.settings.ambient, Color(0.1f, 0.0f, 0.2f));
   ASSERT_TRUE(scene.camera.has_value());
   EXPECT_NEAR(scene.camera->fov_y, radians(50.0f), 1e-6f);
 }

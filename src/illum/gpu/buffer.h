@@ -47,6 +47,10 @@ class Buffer {
   Allocation allocation_;
 };
 
+// One synchronization2 global memory barrier (buffers and other non-image resources).
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+
 // A device-local buffer holding `bytes` (usage gets TRANSFER_DST added).
 Buffer make_device_buffer(Context& context, const void* data, VkDeviceSize bytes,
                           VkBufferUsageFlags usage);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstring>
 
 #include "illum/core/color.h"
@@ -14,7 +13,7 @@
 #include "illum/gpu/vk_check.h"
 #include "illum/realtime/frame_graph.h"
 #include "illum/realtime/gpu_scene.h"
-#include "illum/realtime/shadow_volume_builder.h"
+#include "illum/realtime/stencil_shadows.h"
 
 namespace illum::realtime {
 
@@ -48,6 +47,12 @@ DeferredLighting deferred_lighting_from_string(const std::string& name) {
   throw Error(fmt::format("unknown deferred_lighting '{}' (known: compute, volumes)", name));
 }
 
+SilhouetteSource silhouette_source_from_string(const std::string& name) {
+  if (name == "cpu") return SilhouetteSource::kCpu;
+  if (name == "gpu") return SilhouetteSource::kGpu;
+  throw Error(fmt::format("unknown silhouettes '{}' (known: cpu, gpu)", name));
+}
+
 RendererOptions RendererOptions::from_params(const Params& p) {
   RendererOptions o;
   o.width = p.get_int_in("width", o.width, 1, 16384);
@@ -61,6 +66,8 @@ RendererOptions RendererOptions::from_params(const Params& p) {
   o.shadow_bias = p.get_float_in("shadow_bias", o.shadow_bias, 0.0f, 1.0f);
   o.vsm_tau = p.get_float_in("vsm_tau", o.vsm_tau, 0.0f, 0.99f);
   o.volume_back_faces = p.get<bool>("volume_back_faces", o.volume_back_faces);
+  if (p.has("silhouettes"))
+    o.silhouettes = silhouette_source_from_string(p.get<std::string>("silhouettes"));
   o.half_lambert = p.get<bool>("half_lambert", o.half_lambert);
   if (p.has("ambient")) o.ambient = p.get<vec3>("ambient");
   if (p.has("tone_mapper"))
@@ -76,14 +83,6 @@ RendererOptions RendererOptions::from_params(const Params& p) {
 }
 
 namespace {
-
-// One face's stencil state. Every pass here keeps the value on a stencil-test failure,
-// compares all 8 bits against reference 0; only pass/depth-fail ops, the compare and the
-// write mask differ.
-VkStencilOpState stencil_op(VkStencilOp pass, VkStencilOp depth_fail, VkCompareOp compare,
-                            uint32_t write_mask = 0xff) {
-  return {VK_STENCIL_OP_KEEP, pass, depth_fail, compare, 0xff, write_mask, 0};
-}
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kLdrFormat = VK_FORMAT_R8G8B8A8_UNORM;
@@ -136,19 +135,6 @@ VkRenderingAttachmentInfo depth_attachment(VkImageView view, bool clear) {
   return a;
 }
 
-void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
-                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
-  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  b.srcStageMask = src_stage;
-  b.srcAccessMask = src_access;
-  b.dstStageMask = dst_stage;
-  b.dstAccessMask = dst_access;
-  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.memoryBarrierCount = 1;
-  dep.pMemoryBarriers = &b;
-  vkCmdPipelineBarrier2(cmd, &dep);
-}
-
 // Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
 void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
@@ -174,6 +160,11 @@ void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
 }
 
 }  // namespace
+
+bool lit_in_real_time(const Light& l) {
+  return l.type == LightType::kPoint || l.type == LightType::kSpot ||
+         l.type == LightType::kDirectional;
+}
 
 std::vector<Light> realtime_lights(const Scene& scene) {
   std::vector<Light> out;
@@ -257,7 +248,9 @@ struct Renderer::Impl {
   gpu::PipelineLayout scene_pipeline_layout, tonemap_pipeline_layout;
   gpu::Pipeline forward, shadow_cube, luminance_pipe, reduce_pipe, tonemap_pipe;
   gpu::Pipeline depth_prepass;  // forward: depth only, then shading with depth EQUAL
-  gpu::Pipeline volume_stencil, volume_light;
+  // Stencil shadows: the lighting pass per light, where the volumes' count is 0 (forward:
+  // the scene again, depth LESS_OR_EQUAL; deferred: a full-screen G-buffer pass).
+  gpu::Pipeline volume_light, volume_fullscreen;
   // Deferred path.
   GpuImage g_albedo, g_normal, g_specular;  // compact: see shaders/gbuffer.glsl
   gpu::DescriptorSetLayout gbuffer_layout;
@@ -267,12 +260,8 @@ struct Renderer::Impl {
   gpu::Pipeline light_compute_pipe, gbuffer_prepass;
   gpu::Buffer sphere_vertices, sphere_indices;
   uint32_t sphere_index_count = 0;
-  // Stencil shadow volumes: CPU-built geometry for every light, one host-visible buffer.
-  std::unique_ptr<ShadowVolumeBuilder> volume_builder;
-  gpu::Buffer volume_vertices;
-  std::vector<std::pair<uint32_t, uint32_t>> volume_ranges;  // first vertex, count per light
-  bool volumes_dirty = true;
-  ShadowVolumeStats volume_stats;
+  std::unique_ptr<StencilShadows> stencil_shadows;
+  bool volumes_dirty = true;    // CPU volumes: rebuild before the next frame
   double silhouette_ms = -1.0;  // CPU build time in this frame (−1: not rebuilt)
   std::array<glm::mat4, 4> cascade_matrices{glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f),
                                             glm::mat4(1.0f)};
@@ -310,15 +299,9 @@ struct Renderer::Impl {
         height(static_cast<uint32_t>(o.height)),
         descriptors(c),
         timer(c) {
-    if (options.technique == Technique::kDeferred && options.shadows == ShadowMode::kVolume)
+    if (volumes() && !c.depth_clamp())
       throw Error(
-          "shadows 'volume' work with the forward technique only (deferred: none, map, vsm)");
-    if (options.shadows == ShadowMode::kVolume) {
-      if (!c.depth_clamp())
-        throw Error(
-            fmt::format("shadows 'volume' need depthClamp, which '{}' lacks", c.device_name()));
-      volume_builder = std::make_unique<ShadowVolumeBuilder>(s);
-    }
+          fmt::format("shadows 'volume' need depthClamp, which '{}' lacks", c.device_name()));
     depth_format = gpu::pick_depth_stencil_format(c);
     create_targets();
     create_buffers();
@@ -463,6 +446,13 @@ struct Renderer::Impl {
         shadow_cubes = GpuImage(context, c);
       }
     }
+  }
+
+  bool volumes() const { return options.shadows == ShadowMode::kVolume; }
+  // Lights or the caster choice changed: rebuild the volumes (CPU) or extract them (GPU).
+  void invalidate_volumes() {
+    volumes_dirty = true;
+    graph.invalidate("silhouettes");
   }
 
   VkFormat shadow_format() const {
@@ -740,13 +730,8 @@ struct Renderer::Impl {
       // count ≠ 0), then shade them once through the back faces.
       gpu::GraphicsPipelineDesc st = l;
       st.fragment_shader = "";
-      st.cull = VK_CULL_MODE_NONE;
       st.color_write = false;
-      st.stencil_test = true;
-      st.stencil_front =
-          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
-      st.stencil_back =
-          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
+      use_z_fail_count(&st);
       light_stencil_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), st);
       gpu::GraphicsPipelineDesc lv = l;
       // Both faces, no depth test (works with the camera inside the sphere); a shaded pixel
@@ -764,38 +749,25 @@ struct Renderer::Impl {
       fs.depth_test = false;
       fs.additive_blend = true;
       light_fullscreen_pipe = gpu::Pipeline(context, deferred_pipeline_layout.handle(), fs);
+      if (volumes()) {
+        use_stencil_zero_test(&fs);
+        volume_fullscreen = gpu::Pipeline(context, deferred_pipeline_layout.handle(), fs);
+      }
     }
-    if (volume_builder) {
-      gpu::GraphicsPipelineDesc v;
-      v.vertex_shader = "shadow_volume.vert";
-      v.vertex_input.stride = sizeof(glm::vec4);
-      v.vertex_input.attributes = {{0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
-      v.cull = VK_CULL_MODE_NONE;
-      v.depth_write = false;
-      v.depth_compare = VK_COMPARE_OP_LESS;
-      v.depth_clamp = true;  // the back cap lies at infinity
-      v.stencil_test = true;
-      // z-fail (Carmack's reverse): count volume faces behind the visible surface.
-      v.stencil_front =
-          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_DECREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
-      v.stencil_back =
-          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_INCREMENT_AND_WRAP, VK_COMPARE_OP_ALWAYS);
-      v.color_formats = {kHdrFormat};
-      v.color_write = false;
-      v.depth_format = depth_format;
-      v.stencil_format = depth_format;
-      volume_stencil = gpu::Pipeline(context, scene_pipeline_layout.handle(), v);
-      gpu::GraphicsPipelineDesc l = fwd;
-      l.depth_write = false;
-      // Same vertex shader and state as the depth pass, so the depths repeat exactly (the
-      // SPIR-V Invariant decoration on gl_Position trips the validator's struct-member rule).
-      l.depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL;
-      l.additive_blend = true;
-      l.stencil_test = true;
-      l.stencil_front =
-          stencil_op(VK_STENCIL_OP_KEEP, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_EQUAL, /*write_mask=*/0);
-      l.stencil_back = l.stencil_front;
-      volume_light = gpu::Pipeline(context, scene_pipeline_layout.handle(), l);
+    if (volumes()) {
+      stencil_shadows = std::make_unique<StencilShadows>(
+          context, scene, lights.size(), options.silhouettes, scene_pipeline_layout.handle(),
+          kHdrFormat, depth_format);
+      if (!g_albedo) {
+        gpu::GraphicsPipelineDesc l = fwd;
+        l.depth_write = false;
+        // Same vertex shader and state as the depth pass, so the depths repeat exactly (the
+        // SPIR-V Invariant decoration on gl_Position trips the validator's struct-member rule).
+        l.depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL;
+        l.additive_blend = true;
+        use_stencil_zero_test(&l);
+        volume_light = gpu::Pipeline(context, scene_pipeline_layout.handle(), l);
+      }
     }
     if (bloom_a) {
       bloom_pipeline_layout = gpu::PipelineLayout(context, {bloom_layout.handle()}, 16);
@@ -956,7 +928,7 @@ struct Renderer::Impl {
     vkCmdBeginRendering(c, &info);
     set_viewport(c, width, height);
     PushConstants push{};
-    push.pad = volume_builder ? 1 : 0;
+    push.pad = volumes() ? 1 : 0;
     bind_scene(c, depth_prepass.handle());
     draw_scene(c, push, true);
     bind_scene(c, forward.handle());
@@ -989,37 +961,29 @@ struct Renderer::Impl {
     vkCmdEndRendering(c);
   }
 
-  // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
-  void record_compute_lighting(VkCommandBuffer c) {
-    const VkPipelineStageFlags2 cs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    for (GpuImage* g : {&g_albedo, &g_normal, &g_specular})
-      g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cs,
-                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL, cs,
-                     VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
-    hdr.transition(c, VK_IMAGE_LAYOUT_GENERAL, cs,
-                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    const VkPipelineLayout layout = deferred_pipeline_layout.handle();
+  void bind_gbuffer_sets(VkCommandBuffer c, VkPipelineBindPoint bind_point) {
     const VkDescriptorSet sets[3] = {frame_set, material_sets[0], gbuffer_set};
-    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 3, sets, 0, nullptr);
-    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, light_compute_pipe.handle());
-    const PushConstants push{};
-    vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-    vkCmdDispatch(c, (width + 7) / 8, (height + 7) / 8, 1);
+    vkCmdBindDescriptorSets(c, bind_point, deferred_pipeline_layout.handle(), 0, 3, sets, 0,
+                            nullptr);
   }
 
-  void record_deferred_lighting(VkCommandBuffer c) {
-    if (options.deferred_lighting == DeferredLighting::kCompute) {
-      record_compute_lighting(c);
-      return;
-    }
+  // The per-light passes after the depth (and G-buffer) pass — light volumes, shadow
+  // volumes: the depth buffer read-only (tested, and sampled by the G-buffer lighting), the
+  // stencil free for them, the HDR target added to.
+  void prepare_light_rendering(VkCommandBuffer c) {
     for (GpuImage* g : {&g_albedo, &g_normal, &g_specular})
-      g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+      if (*g)
+        g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     hdr.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
-    const VkImageLayout ds = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL;
-    depth.transition(c, ds, kDepthStage | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL,
+                     kDepthStage | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                      kDepthAccess | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  }
+
+  // A rendering scope over the HDR target and the read-only depth with the stencil cleared.
+  void begin_light_rendering(VkCommandBuffer c) {
+    const VkImageLayout ds = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL;
     VkRenderingAttachmentInfo color = color_attachment(hdr.view(), false);
     VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), false);
     depth_att.imageLayout = ds;
@@ -1035,9 +999,35 @@ struct Renderer::Impl {
     info.pStencilAttachment = &stencil_att;
     vkCmdBeginRendering(c, &info);
     set_viewport(c, width, height);
+  }
+
+  // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
+  void record_compute_lighting(VkCommandBuffer c) {
+    const VkPipelineStageFlags2 cs = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    for (GpuImage* g : {&g_albedo, &g_normal, &g_specular})
+      g->transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, cs,
+                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL, cs,
+                     VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    hdr.transition(c, VK_IMAGE_LAYOUT_GENERAL, cs,
+                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    bind_gbuffer_sets(c, VK_PIPELINE_BIND_POINT_COMPUTE);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, light_compute_pipe.handle());
+    const PushConstants push{};
+    vkCmdPushConstants(c, deferred_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push),
+                       &push);
+    vkCmdDispatch(c, (width + 7) / 8, (height + 7) / 8, 1);
+  }
+
+  void record_deferred_lighting(VkCommandBuffer c) {
+    if (options.deferred_lighting == DeferredLighting::kCompute) {
+      record_compute_lighting(c);
+      return;
+    }
+    prepare_light_rendering(c);
+    begin_light_rendering(c);
     const VkPipelineLayout layout = deferred_pipeline_layout.handle();
-    const VkDescriptorSet sets[3] = {frame_set, material_sets[0], gbuffer_set};
-    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 3, sets, 0, nullptr);
+    bind_gbuffer_sets(c, VK_PIPELINE_BIND_POINT_GRAPHICS);
     VkDeviceSize offset = 0;
     VkBuffer vb = sphere_vertices.handle();
     vkCmdBindVertexBuffers(c, 0, 1, &vb, &offset);
@@ -1045,9 +1035,7 @@ struct Renderer::Impl {
     for (size_t i = 0; i < lights.size(); ++i) {
       if (options.single_light >= 0 && static_cast<int>(i) != options.single_light) continue;
       const Light& l = lights[i];
-      if (l.type != LightType::kPoint && l.type != LightType::kSpot &&
-          l.type != LightType::kDirectional)
-        continue;
+      if (!lit_in_real_time(l)) continue;
       PushConstants push{};
       push.light_index = static_cast<int>(i);
       const bool volume = l.type != LightType::kDirectional && l.range > 0.0f;
@@ -1074,129 +1062,37 @@ struct Renderer::Impl {
     vkCmdEndRendering(c);
   }
 
-  void build_volumes() {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<glm::vec4> all, one;
-    volume_ranges.clear();
-    // Front caps sit this far behind their casters, beyond the depth buffer's resolution,
-    // so a lit caster never fights with its own cap.
-    const float offset = scene.bounds().diagonal() * 2e-3f;
-    ShadowVolumeStats total;
-    for (const Light& l : lights) {
-      const bool casts = l.type == LightType::kPoint || l.type == LightType::kSpot ||
-                         l.type == LightType::kDirectional;
-      ShadowVolumeStats st;
-      if (casts)
-        volume_builder->build(l, options.volume_back_faces, offset, &one, &st);
-      else
-        one.clear();
-      volume_ranges.emplace_back(static_cast<uint32_t>(all.size()),
-                                 static_cast<uint32_t>(one.size()));
-      all.insert(all.end(), one.begin(), one.end());
-      total.caster_triangles += st.caster_triangles;
-      total.silhouette_edges += st.silhouette_edges;
-      total.volume_triangles += st.volume_triangles;
-    }
-    if (all.empty()) all.emplace_back(0.0f);
-    const VkDeviceSize bytes = all.size() * sizeof(glm::vec4);
-    if (!volume_vertices || volume_vertices.size() < bytes) {
-      context.wait_idle();
-      volume_vertices =
-          gpu::Buffer(context, bytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, gpu::MemoryUsage::kUpload);
-    }
-    volume_vertices.write(all.data(), bytes);
-    total.build_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    volume_stats = total;
-    log::debug("shadow volumes: {} casters, {} silhouette edges, {} triangles, {:.1f} ms",
-               total.caster_triangles, total.silhouette_edges, total.volume_triangles,
-               total.build_ms);
-    silhouette_ms = total.build_ms;
-    volumes_dirty = false;
-  }
-
-  // Pixels that can see a spot light's cone within the scene bounds (and its range): the
-  // screen box of the frustum apex + cone cross-section at the farthest reach, which holds
-  // every lit point. Elsewhere the light adds nothing, so its volumes need no stencil there.
-  // Full screen for other lights or when the frustum reaches behind the camera.
-  VkRect2D light_scissor(const Light& l) const {
-    const VkRect2D full{{0, 0}, {width, height}};
-    if (l.type != LightType::kSpot || l.cone_half_angle >= radians(80.0f)) return full;
-    const Bounds3 b = scene.bounds();
-    float reach = 0.0f;
-    for (int k = 0; k < 8; ++k) {
-      const vec3 corner(k & 1 ? b.max.x : b.min.x, k & 2 ? b.max.y : b.min.y,
-                        k & 4 ? b.max.z : b.min.z);
-      reach = std::max(reach, glm::length(corner - l.position));
-    }
-    if (l.range > 0.0f) reach = std::min(reach, l.range);
-    const vec3 dir = glm::normalize(l.direction);
-    const vec3 u =
-        glm::normalize(glm::cross(std::abs(dir.y) < 0.99f ? vec3(0, 1, 0) : vec3(1, 0, 0), dir));
-    const vec3 w = glm::cross(dir, u);
-    const float half = reach * std::tan(l.cone_half_angle) * 1.01f;
-    const vec3 points[5] = {l.position, l.position + dir * reach + (u + w) * half,
-                            l.position + dir * reach + (u - w) * half,
-                            l.position + dir * reach - (u + w) * half,
-                            l.position + dir * reach - (u - w) * half};
-    vec2 lo(1e30f), hi(-1e30f);
-    for (const vec3& p : points) {
-      const vec4 h = view_proj * vec4(p, 1.0f);
-      if (h.w <= 1e-6f) return full;
-      const vec2 ndc = vec2(h) / h.w;
-      lo = glm::min(lo, ndc);
-      hi = glm::max(hi, ndc);
-    }
-    const vec2 size(static_cast<float>(width), static_cast<float>(height));
-    const vec2 p0 = glm::clamp(glm::floor((lo * 0.5f + 0.5f) * size) - 1.0f, vec2(0.0f), size);
-    const vec2 p1 = glm::clamp(glm::ceil((hi * 0.5f + 0.5f) * size) + 1.0f, vec2(0.0f), size);
-    if (p1.x <= p0.x || p1.y <= p0.y) return {{0, 0}, {1, 1}};  // the cone is off screen
-    return {{static_cast<int32_t>(p0.x), static_cast<int32_t>(p0.y)},
-            {static_cast<uint32_t>(p1.x - p0.x), static_cast<uint32_t>(p1.y - p0.y)}};
-  }
-
-  // Per light: stencil = z-fail count of its volumes, then the light's contribution added
-  // where the count is zero (depth EQUAL against the depth pass).
+  // Stencil shadows, forward or deferred: per light, the z-fail count of its volumes against
+  // the depth buffer, then the light added where the count is 0 — the scene again with depth
+  // LESS_OR_EQUAL (forward) or one full-screen pass over the G-buffer (deferred).
   void record_volume_lighting(VkCommandBuffer c) {
-    hdr.transition(c, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, kColorStage, kColorAccess);
-    depth.transition(c, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, kDepthStage,
-                     kDepthAccess);
+    prepare_light_rendering(c);
     for (size_t i = 0; i < lights.size(); ++i) {
       if (options.single_light >= 0 && static_cast<int>(i) != options.single_light) continue;
-      VkRenderingAttachmentInfo color = color_attachment(hdr.view(), false);
-      VkRenderingAttachmentInfo depth_att = depth_attachment(depth.layer_view(0), false);
-      VkRenderingAttachmentInfo stencil_att = depth_attachment(depth.layer_view(0), true);
-      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      info.renderArea = {{0, 0}, {width, height}};
-      info.layerCount = 1;
-      info.colorAttachmentCount = 1;
-      info.pColorAttachments = &color;
-      info.pDepthAttachment = &depth_att;
-      info.pStencilAttachment = &stencil_att;
+      if (!lit_in_real_time(lights[i])) continue;
       const uint32_t stencil_scope = timer.begin(c, "stencil_volumes");
-      vkCmdBeginRendering(c, &info);
-      set_viewport(c, width, height);
-      const VkRect2D scissor = light_scissor(lights[i]);
+      begin_light_rendering(c);
+      const VkRect2D scissor = light_scissor(lights[i], scene.bounds(), view_proj, width, height);
       vkCmdSetScissor(c, 0, 1, &scissor);
-      const auto [first, count] = volume_ranges[i];
-      if (count > 0) {
-        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, volume_stencil.handle());
-        vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout.handle(),
-                                0, 1, &frame_set, 0, nullptr);
-        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
-        VkDeviceSize offset = 0;
-        VkBuffer vb = volume_vertices.handle();
-        vkCmdBindVertexBuffers(c, 0, 1, &vb, &offset);
-        vkCmdDraw(c, count, 1, first, 0);
-      }
+      stencil_shadows->record_stencil(c, frame_set, i);
       timer.end(c, stencil_scope);
       const uint32_t light_scope = timer.begin(c, "volume_lighting");
-      bind_scene(c, volume_light.handle());
-      vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
       PushConstants push{};
-      push.pad = 2;
       push.light_index = static_cast<int>(i);
-      draw_scene(c, push, true);
+      if (g_albedo) {
+        bind_gbuffer_sets(c, VK_PIPELINE_BIND_POINT_GRAPHICS);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, volume_fullscreen.handle());
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        push.view_index = 1;  // deferred_light.vert: the full-screen triangle
+        vkCmdPushConstants(c, deferred_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0,
+                           sizeof(push), &push);
+        vkCmdDraw(c, 3, 1, 0, 0);
+      } else {
+        bind_scene(c, volume_light.handle());
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        push.pad = 2;  // forward.frag: only this light, no shadow-map lookup
+        draw_scene(c, push, true);
+      }
       vkCmdEndRendering(c);
       timer.end(c, light_scope);
     }
@@ -1206,22 +1102,25 @@ struct Renderer::Impl {
     hdr.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     // The previous frame's tone map read the buffer; the write below must wait for it.
-    memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    gpu::memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, tonemap_pipeline_layout.handle(), 0,
                             1, &tonemap_set, 0, nullptr);
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, luminance_pipe.handle());
     vkCmdDispatch(c, tiles_x, tiles_y, 1);
-    memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    gpu::memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, reduce_pipe.handle());
     const uint32_t push[2] = {tiles_x * tiles_y, width * height};
     vkCmdPushConstants(c, tonemap_pipeline_layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push),
                        push);
     vkCmdDispatch(c, 1, 1, 1);
-    memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    gpu::memory_barrier(
+        c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   }
 
   // Bright pass into A (half resolution), Gaussian A → B horizontally, B → A vertically.
@@ -1308,6 +1207,23 @@ struct Renderer::Impl {
     } else {
       graph.import_resource("shadow_cubes");
     }
+    if (stencil_shadows && stencil_shadows->source() == SilhouetteSource::kGpu) {
+      PassDesc p{"silhouettes",
+                 {"scene", "lights"},
+                 {"volumes"},
+                 UpdateSchedule::kOnChange,
+                 1,
+                 [this](VkCommandBuffer c) {
+                   stencil_shadows->record_extraction(c, lights, options.volume_back_faces);
+                 }};
+      if (options.shadow_update_period > 0) {
+        p.schedule = UpdateSchedule::kEveryN;
+        p.period = options.shadow_update_period;
+      }
+      graph.add_pass(std::move(p));
+    } else {
+      graph.import_resource("volumes");  // none, or built on the CPU before recording
+    }
     if (g_albedo) {
       graph.add_pass({"gbuffer",
                       {"scene", "camera"},
@@ -1315,12 +1231,14 @@ struct Renderer::Impl {
                       UpdateSchedule::kEveryFrame,
                       1,
                       [this](VkCommandBuffer c) { record_gbuffer(c); }});
-      graph.add_pass({"lighting",
-                      {"gbuffer", "depth", "lights", "shadow_cubes", "cascades", "hdr"},
-                      {"hdr"},
-                      UpdateSchedule::kEveryFrame,
-                      1,
-                      [this](VkCommandBuffer c) { record_deferred_lighting(c); }});
+      // With stencil shadows the per-light volume lighting below takes its place.
+      if (!volumes())
+        graph.add_pass({"lighting",
+                        {"gbuffer", "depth", "lights", "shadow_cubes", "cascades", "hdr"},
+                        {"hdr"},
+                        UpdateSchedule::kEveryFrame,
+                        1,
+                        [this](VkCommandBuffer c) { record_deferred_lighting(c); }});
     } else {
       graph.add_pass({"forward",
                       {"scene", "camera", "lights", "shadow_cubes", "cascades"},
@@ -1329,9 +1247,11 @@ struct Renderer::Impl {
                       1,
                       [this](VkCommandBuffer c) { record_forward(c); }});
     }
-    if (volume_builder) {
+    if (stencil_shadows) {
+      std::vector<std::string> inputs = {"scene", "camera", "lights", "volumes", "hdr", "depth"};
+      if (g_albedo) inputs.push_back("gbuffer");
       PassDesc p{"shadow_volumes",
-                 {"scene", "camera", "lights", "hdr", "depth"},
+                 std::move(inputs),
                  {"hdr"},
                  UpdateSchedule::kEveryFrame,
                  1,
@@ -1414,7 +1334,12 @@ struct Renderer::Impl {
   void render(const Camera& camera) {
     write_frame_uniforms(camera);
     silhouette_ms = -1.0;
-    if (volume_builder && volumes_dirty) build_volumes();
+    const int period = options.shadow_update_period;
+    if (stencil_shadows && stencil_shadows->source() == SilhouetteSource::kCpu &&
+        (volumes_dirty || (period > 0 && frame_index % static_cast<uint64_t>(period) == 0))) {
+      silhouette_ms = stencil_shadows->build_on_cpu(lights, options.volume_back_faces);
+      volumes_dirty = false;
+    }
     ILLUM_VK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -1589,11 +1514,11 @@ bool Renderer::set_options(const RendererOptions& o) {
       o.shadows != c.shadows || o.shadow_resolution != c.shadow_resolution ||
       o.shadow_update_period != c.shadow_update_period ||
       (o.bloom_strength > 0.0f) != (c.bloom_strength > 0.0f) ||
-      o.deferred_lighting != c.deferred_lighting)
+      o.deferred_lighting != c.deferred_lighting || o.silhouettes != c.silhouettes)
     return false;
   // The bias also offsets cascade rendering; back-face volumes change the geometry.
   if (o.shadow_bias != c.shadow_bias) m.graph.invalidate("shadow_maps");
-  if (o.volume_back_faces != c.volume_back_faces) m.volumes_dirty = true;
+  if (o.volume_back_faces != c.volume_back_faces) m.invalidate_volumes();
   m.options = o;
   return true;
 }
@@ -1604,7 +1529,7 @@ void Renderer::update_lights(const std::vector<Light>& lights) {
   impl_->lights = lights;
   impl_->upload_lights();
   impl_->graph.invalidate("shadow_maps");
-  impl_->volumes_dirty = true;
+  impl_->invalidate_volumes();
 }
 
 }  // namespace illum::realtime

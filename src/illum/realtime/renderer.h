@@ -6,8 +6,10 @@
 //            shadow-map lookups; with stencil shadows it writes depth + emission + ambient)
 //   gbuffer, lighting (deferred: compact G-buffer after a depth pre-pass, then one compute
 //            dispatch over all lights, or per-light volumes)
-//   shadow_volumes (stencil shadows: per light a z-fail stencil pass, timed as
-//            "stencil_volumes", and an additive lighting pass, "volume_lighting")
+//   silhouettes (stencil shadows, GPU source: compute extraction of every light's volumes;
+//            on change or every N frames)
+//   shadow_volumes (stencil shadows, forward or deferred: per light a z-fail stencil pass,
+//            timed as "stencil_volumes", and an additive lighting pass, "volume_lighting")
 //   luminance (log-average) → tonemap (Reinhard / ACES / AgX, sRGB)
 // Every pass is timed with GPU timestamps.
 #pragma once
@@ -31,19 +33,25 @@ enum class Technique { kForward, kDeferred };
 // per-light volumes with the stencil trick (S001 §4.1).
 enum class DeferredLighting { kCompute, kVolumes };
 enum class ToneMapOp : int { kClamp = 0, kReinhard = 1, kAces = 2, kAgx = 3 };
+// Where stencil shadow volumes are built: a compute pass drawn indirectly (GPU), or
+// ShadowVolumeBuilder on the CPU (the simple reference, uploaded each rebuild).
+enum class SilhouetteSource { kCpu, kGpu };
 
 struct RendererOptions {
   int width = 512;
   int height = 512;
   Technique technique = Technique::kForward;
   ShadowMode shadows = ShadowMode::kMap;
-  int shadow_resolution = 512;     // cube face side
-  int shadow_update_period = 0;    // 0: re-render shadow maps only when lights change
+  int shadow_resolution = 512;  // cube face side
+  // 0: re-render shadow maps (and rebuild shadow volumes) only when lights change; N: every
+  // N frames.
+  int shadow_update_period = 0;
   int pcf_taps = 16;               // 1 = hard shadows
   float pcf_radius = 1.5f;         // in shadow-map texels
   float shadow_bias = 0.002f;      // relative to the light's far distance
   float vsm_tau = 0.2f;            // VSM light-bleeding threshold
   bool volume_back_faces = false;  // shadow volumes from back-facing casters (S002 §4.3)
+  SilhouetteSource silhouettes = SilhouetteSource::kGpu;
   bool half_lambert = false;
   Color ambient{0.0f};  // constant ambient radiance factor (× albedo)
   ToneMapOp tone_mapper = ToneMapOp::kAces;
@@ -57,8 +65,8 @@ struct RendererOptions {
 
   // Reads the options above from `params` (keys as the field names; enums by name:
   // technique forward|deferred, shadows none|map|vsm|volume, tone_mapper
-  // clamp|reinhard|aces|agx, deferred_lighting compute|volumes). Unknown keys are left for the
-  // caller's check_all_used().
+  // clamp|reinhard|aces|agx, deferred_lighting compute|volumes, silhouettes cpu|gpu). Unknown
+  // keys are left for the caller's check_all_used().
   static RendererOptions from_params(const Params& params);
 };
 
@@ -66,12 +74,16 @@ ToneMapOp tone_map_op_from_string(const std::string& name);
 ShadowMode shadow_mode_from_string(const std::string& name);
 Technique technique_from_string(const std::string& name);
 DeferredLighting deferred_lighting_from_string(const std::string& name);
+SilhouetteSource silhouette_source_from_string(const std::string& name);
 
 // The scene's lights as the real-time renderer uses them: point, spot and directional
 // lights unchanged; each area light becomes a hemispherical spot light at its emitter's
 // centroid, facing along the emitter's normal, with intensity L·A/2 (the emitter's flux
 // πLA over 2π sr). Environment lights are ignored.
 std::vector<Light> realtime_lights(const Scene& scene);
+// Point, spot and directional lights: the ones the real-time passes light with (and that
+// cast stencil shadows); realtime_lights() passes environment lights through unlit.
+bool lit_in_real_time(const Light& light);
 
 // Baked light-map data for display (uv1 coordinates). Layers: kPlain 1 (irradiance/π, RGB),
 // kRnm 3 (the Source basis maps, tangent space), kShL1 4 (radiance SH coefficients Y00,
@@ -119,8 +131,8 @@ class Renderer {
   // strength/threshold while bloom stays on, volume_back_faces, single_light) and returns
   // true. Returns false, changing nothing, when a structural option differs (size,
   // technique, deferred lighting, shadow mode, shadow resolution or update period, bloom
-  // on/off): the caller then builds a new Renderer. Lets `illum view` change parameters
-  // without a rebuild.
+  // on/off, silhouette source): the caller then builds a new Renderer. Lets `illum view` change
+  // parameters without a rebuild.
   bool set_options(const RendererOptions& options);
   // Binds baked light-map data (replacing the constant ambient); throws Error on a wrong
   // layer count or mismatched sizes.

@@ -41,7 +41,7 @@ ShadowVolumeBuilder::ShadowVolumeBuilder(const Scene& scene) {
         scene.materials[static_cast<size_t>(m.material)].is_emissive())
       continue;  // emitters do not cast (the light sits in their fixture)
     for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-      Tri tri;
+      Triangle tri;
       for (int k = 0; k < 3; ++k) {
         tri.p[k] = vec3(inst.transform * vec4(m.positions[m.indices[t + k]], 1.0f));
         tri.v[k] = weld(tri.p[k]);
@@ -68,19 +68,27 @@ ShadowVolumeBuilder::ShadowVolumeBuilder(const Scene& scene) {
         triangles_[t].neighbour[k] = -2;
         continue;
       }
-      Tri& o = triangles_[static_cast<size_t>(other)];
+      Triangle& o = triangles_[static_cast<size_t>(other)];
       if (o.neighbour[slot] == -1) {
         o.neighbour[slot] = static_cast<int32_t>(t);
         triangles_[t].neighbour[k] = other;
       } else {  // third triangle on this edge: every user treats it as a silhouette
         const int32_t second = o.neighbour[slot];
         o.neighbour[slot] = -2;
-        Tri& s = triangles_[static_cast<size_t>(second)];
+        Triangle& s = triangles_[static_cast<size_t>(second)];
         for (int j = 0; j < 3; ++j)
           if (s.neighbour[j] == other) s.neighbour[j] = -2;
         triangles_[t].neighbour[k] = -2;
         other = -1;
       }
+    }
+  for (Triangle& tri : triangles_)
+    for (int k = 0; k < 3; ++k) {
+      if (tri.neighbour[k] < 0) continue;
+      const Triangle& o = triangles_[static_cast<size_t>(tri.neighbour[k])];
+      for (int j = 0; j < 3; ++j)
+        tri.same_direction[k] =
+            tri.same_direction[k] || (o.v[j] == tri.v[k] && o.v[(j + 1) % 3] == tri.v[(k + 1) % 3]);
     }
   for (const auto& [begin, end] : instance_ranges) {
     bool open = false;
@@ -103,7 +111,7 @@ void ShadowVolumeBuilder::build(const Light& light, bool back_facing_casters, fl
   // A triangle whose rays from the light all miss the spot's cone, or that lies beyond the
   // light's range, shadows only points the light does not reach: its volume would be pure
   // fill. Conservative through the triangle's bounding sphere.
-  auto outside_light = [&](const Tri& tri) {
+  auto outside_light = [&](const Triangle& tri) {
     if (directional) return false;
     const vec3 c = (tri.p[0] + tri.p[1] + tri.p[2]) / 3.0f;
     float r = 0.0f;
@@ -118,7 +126,7 @@ void ShadowVolumeBuilder::build(const Light& light, bool back_facing_casters, fl
   };
   std::vector<int8_t> caster(triangles_.size(), 0), flipped(triangles_.size(), 0);
   for (size_t t = 0; t < triangles_.size(); ++t) {
-    const Tri& tri = triangles_[t];
+    const Triangle& tri = triangles_[t];
     const vec3 n = glm::cross(tri.p[1] - tri.p[0], tri.p[2] - tri.p[0]);
     const vec3 to_light = directional ? -travel : light.position - tri.p[0];
     const float facing = glm::dot(n, to_light);
@@ -130,7 +138,7 @@ void ShadowVolumeBuilder::build(const Light& light, bool back_facing_casters, fl
   for (size_t t = 0; t < triangles_.size(); ++t) {
     if (!caster[t]) continue;
     ++s.caster_triangles;
-    const Tri& tri = triangles_[t];
+    const Triangle& tri = triangles_[t];
     // Order the corners so the cap's normal points at the light (outward for the volume,
     // which lies on the far side of the caster).
     int order[3] = {0, 1, 2};
@@ -157,13 +165,8 @@ void ShadowVolumeBuilder::build(const Light& light, bool back_facing_casters, fl
         // Both casters: their side quads on this edge cancel only when the edge runs in
         // opposite directions in the two light-facing windings (a consistently wound
         // surface); a caster folded the other way needs its side to stay closed.
-        const Tri& o = triangles_[static_cast<size_t>(nb)];
-        const uint32_t va = tri.v[slot], vb = tri.v[(slot + 1) % 3];
-        bool same_direction_in_o = false;
-        for (int j = 0; j < 3; ++j)
-          same_direction_in_o = same_direction_in_o || (o.v[j] == va && o.v[(j + 1) % 3] == vb);
         const bool reversed =
-            same_direction_in_o == (flipped[t] != flipped[static_cast<size_t>(nb)]);
+            tri.same_direction[slot] == (flipped[t] != flipped[static_cast<size_t>(nb)]);
         if (reversed) continue;
       }
       ++s.silhouette_edges;

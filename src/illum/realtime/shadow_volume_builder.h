@@ -35,16 +35,21 @@ class ShadowVolumeBuilder {
   void build(const Light& light, bool back_facing_casters, float cap_offset,
              std::vector<glm::vec4>* out, ShadowVolumeStats* stats) const;
 
-  size_t triangle_count() const { return triangles_.size(); }
-
- private:
-  struct Tri {
+  // A caster triangle with its adjacency (world space). The GPU extraction
+  // (shaders/silhouettes.comp) uploads these and applies the same rules as build().
+  struct Triangle {
     vec3 p[3];
     uint32_t v[3];         // welded vertex ids
     int32_t neighbour[3];  // triangle across edge (v[k], v[k+1]); −1 boundary, −2 non-manifold
-    bool open = false;     // its instance is not a closed mesh: casts whichever way it faces
+    // The neighbour across edge k runs it the same way (v[k] → v[k+1]) in its own winding.
+    bool same_direction[3] = {false, false, false};
+    bool open = false;  // its instance is not a closed mesh: casts whichever way it faces
   };
-  std::vector<Tri> triangles_;
+  const std::vector<Triangle>& triangles() const { return triangles_; }
+  size_t triangle_count() const { return triangles_.size(); }
+
+ private:
+  std::vector<Triangle> triangles_;
 };
 
 }  // namespace illum::realtime

@@ -25,13 +25,115 @@ namespace illum::realtime {
 
 namespace {
 
+// GLFW reports failures through a callback without user data; the last one is kept so the
+// headless fallback can say why (e.g. "X11: The DISPLAY environment variable is missing").
+std::string g_glfw_error;
+
+void remember_glfw_error(int /*code*/, const char* description) {
+  g_glfw_error = description ? description : "";
+}
+
 struct Glfw {
   bool ok = false;
-  Glfw() : ok(glfwInit() == GLFW_TRUE) {}
+  Glfw() {
+    g_glfw_error.clear();
+    glfwSetErrorCallback(remember_glfw_error);
+    ok = glfwInit() == GLFW_TRUE;
+  }
   ~Glfw() {
     if (ok) glfwTerminate();
+    glfwSetErrorCallback(nullptr);
   }
 };
+
+std::string glfw_failure(const char* what) {
+  return g_glfw_error.empty() ? std::string(what) : fmt::format("{}: {}", what, g_glfw_error);
+}
+
+constexpr float kLookRadiansPerPixel = 0.005f;
+// Looking further up or down than this would make the view direction nearly parallel to
+// the camera's up vector, where yaw spins around the view instead of turning it.
+constexpr float kMaxElevation = glm::radians(80.0f);
+
+// Turns the view by `yaw` about the camera's up vector (positive: to the left) and raises
+// it by `pitch`, keeping the elevation within ±kMaxElevation (or within where it started,
+// for a scene camera beyond that) so a fast drag stops short of the pole rather than
+// flipping over it. Yaw changes only the azimuth and pitch only the elevation, so the
+// result depends on the summed drag, not on how the frames split it.
+void look_around(Camera* camera, float yaw, float pitch) {
+  const vec3 up = glm::normalize(camera->up);
+  const vec3 to_target = camera->look_at - camera->position;
+  const float distance = glm::length(to_target);
+  const vec3 forward = to_target / distance;
+  const float sine = std::clamp(glm::dot(forward, up), -1.0f, 1.0f);
+  const vec3 level = forward - sine * up;
+  if (glm::length(level) < 1e-6f) return;  // looking along up: no azimuth to turn
+  const vec3 azimuth = vec3(glm::rotate(mat4(1.0f), yaw, up) * vec4(glm::normalize(level), 0.0f));
+  const float elevation = std::asin(sine);
+  const float limit = std::max(kMaxElevation, std::abs(elevation));
+  const float raised = std::clamp(elevation + pitch, -limit, limit);
+  camera->look_at =
+      camera->position + distance * (std::cos(raised) * azimuth + std::sin(raised) * up);
+}
+
+// Input handled by GLFW callbacks in the order the events arrive, not by polling once a
+// frame: with frames of 100s of ms (lavapipe) a key tapped between two polls (Esc, R, C)
+// was missed, the part of a drag made before the first frame that saw the button was
+// lost, and C pressed right after a drag printed the camera without it. Held movement keys
+// are still polled each frame (speed × frame time).
+struct ViewerInput {
+  Camera* camera = nullptr;
+  Camera home;  // R puts the camera back here
+  // From the last ImGui frame: the panel's rectangle, whether one of its popups (a combo's
+  // list) is open, whether a widget edits text (ImGui's WantCaptureKeyboard).
+  ImVec2 panel_min{0, 0}, panel_max{0, 0};
+  bool popup_open = false, panel_wants_keyboard = false;
+  double cursor_x = 0.0, cursor_y = 0.0;  // the last cursor position reported
+  bool dragging = false;                  // right button held since a press off the panel
+  bool quit = false;
+};
+
+ViewerInput& input_of(GLFWwindow* window) {
+  return *static_cast<ViewerInput*>(glfwGetWindowUserPointer(window));
+}
+
+void print_camera(const Camera& camera) {
+  std::printf("illum view: camera %s\n", camera_json(camera).c_str());
+  std::fflush(stdout);
+}
+
+void on_cursor(GLFWwindow* window, double x, double y) {
+  ViewerInput& in = input_of(window);
+  // Dragging right turns right, dragging down looks down (window y grows downwards).
+  if (in.dragging)
+    look_around(in.camera, -kLookRadiansPerPixel * static_cast<float>(x - in.cursor_x),
+                -kLookRadiansPerPixel * static_cast<float>(y - in.cursor_y));
+  in.cursor_x = x;
+  in.cursor_y = y;
+}
+
+void on_mouse_button(GLFWwindow* window, int button, int action, int /*mods*/) {
+  if (button != GLFW_MOUSE_BUTTON_RIGHT) return;
+  ViewerInput& in = input_of(window);
+  if (action == GLFW_RELEASE) {
+    in.dragging = false;
+    return;
+  }
+  // ImGui's own rule (WantCaptureMouse: a press over its window, or while a popup is open,
+  // is its), applied at the press itself: io.WantCaptureMouse is one frame old, and stays
+  // true until the frame after a drag on the panel ends, swallowing a quick next drag.
+  const bool over_panel = in.cursor_x >= in.panel_min.x && in.cursor_x < in.panel_max.x &&
+                          in.cursor_y >= in.panel_min.y && in.cursor_y < in.panel_max.y;
+  in.dragging = !over_panel && !in.popup_open;
+}
+
+void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
+  ViewerInput& in = input_of(window);
+  if (action != GLFW_PRESS || in.panel_wants_keyboard) return;
+  if (key == GLFW_KEY_ESCAPE) in.quit = true;
+  if (key == GLFW_KEY_R) *in.camera = in.home;
+  if (key == GLFW_KEY_C) print_camera(*in.camera);
+}
 
 struct Swapchain {
   VkDevice device = VK_NULL_HANDLE;
@@ -185,6 +287,7 @@ constexpr VkImageSubresourceRange kSwapchainRange{VK_IMAGE_ASPECT_COLOR_BIT, 0, 
 const char* const kTechniques[] = {"forward", "deferred"};
 const char* const kShadowModes[] = {"none", "map", "vsm", "volume"};
 const char* const kDeferredLighting[] = {"compute", "light volumes"};
+const char* const kSilhouettes[] = {"cpu", "gpu"};
 const char* const kToneMappers[] = {"clamp", "reinhard", "aces", "agx"};
 const char* const kLightTypes[] = {"point", "spot", "directional", "area", "environment"};
 
@@ -194,8 +297,9 @@ struct PanelState {
   std::vector<Light> lights;       // as edited
   float light_scale = 1.0f;        // multiplies every light's intensity / irradiance
   bool lights_changed = false;
-  float speed = 1.0f;  // camera speed, scene diagonals per ... see move_speed
-  std::string error;   // the last rejected option change (e.g. volume without depth clamp)
+  float speed = 1.0f;         // multiplies the camera speed (0.25 scene diagonals a second)
+  bool print_camera = false;  // the panel's "print camera" button was pressed
+  std::string error;          // the last rejected option change (e.g. volume without depth clamp)
   ImVec2 panel_pos{0, 0}, panel_size{0, 0};
 };
 
@@ -228,9 +332,7 @@ void draw_panel(const gpu::Context& ctx, RendererOptions* o, PanelState* p, Came
   if (combo("technique", &technique, kTechniques, 2))
     o->technique = static_cast<Technique>(technique);
   int shadows = static_cast<int>(o->shadows);
-  // Stencil shadow volumes exist in the forward path only.
-  if (combo("shadows", &shadows, kShadowModes, o->technique == Technique::kForward ? 4 : 3))
-    o->shadows = static_cast<ShadowMode>(shadows);
+  if (combo("shadows", &shadows, kShadowModes, 4)) o->shadows = static_cast<ShadowMode>(shadows);
   if (o->technique == Technique::kDeferred) {
     int lighting = static_cast<int>(o->deferred_lighting);
     if (combo("lighting", &lighting, kDeferredLighting, 2))
@@ -266,6 +368,9 @@ void draw_panel(const gpu::Context& ctx, RendererOptions* o, PanelState* p, Came
     ImGui::SliderFloat("bias", &o->shadow_bias, 0.0f, 0.02f, "%.4f", ImGuiSliderFlags_Logarithmic);
     ImGui::SliderFloat("VSM tau", &o->vsm_tau, 0.0f, 0.99f);
     ImGui::Checkbox("volumes from back faces", &o->volume_back_faces);
+    int silhouettes = static_cast<int>(o->silhouettes);
+    if (combo("volume silhouettes", &silhouettes, kSilhouettes, 2))
+      o->silhouettes = static_cast<SilhouetteSource>(silhouettes);
     ImGui::TextDisabled("cascades: 4 (first directional light)");
   }
   if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -317,7 +422,9 @@ void draw_panel(const gpu::Context& ctx, RendererOptions* o, PanelState* p, Came
     if (ImGui::SliderFloat("fov y", &fov, 10.0f, 120.0f, "%.1f deg"))
       camera->fov_y = glm::radians(fov);
     ImGui::Text("at %.2f %.2f %.2f", camera->position.x, camera->position.y, camera->position.z);
-    if (ImGui::Button("reset camera")) *camera = home;
+    if (ImGui::Button("reset camera (R)")) *camera = home;
+    ImGui::SameLine();
+    if (ImGui::Button("print camera (C)")) p->print_camera = true;
     ImGui::TextDisabled("WASD move, Q/E down/up, Shift fast,\nright-drag look, Esc quit");
   }
   ImGui::PopItemWidth();
@@ -331,7 +438,7 @@ bool same_structure(const RendererOptions& a, const RendererOptions& b) {
          a.shadows == b.shadows && a.shadow_resolution == b.shadow_resolution &&
          a.shadow_update_period == b.shadow_update_period &&
          (a.bloom_strength > 0.0f) == (b.bloom_strength > 0.0f) &&
-         a.deferred_lighting == b.deferred_lighting;
+         a.deferred_lighting == b.deferred_lighting && a.silhouettes == b.silhouettes;
 }
 
 // The ImGui context and its two backends, shut down in reverse order.
@@ -352,22 +459,30 @@ void check_vk(VkResult r) {
 
 }  // namespace
 
+std::string camera_json(const Camera& camera) {
+  const auto v = [](const vec3& a) { return fmt::format("[{}, {}, {}]", a.x, a.y, a.z); };
+  return fmt::format(R"({{"position": {}, "look_at": {}, "up": {}, "fov_y_deg": {}}})",
+                     v(camera.position), v(camera.look_at), v(camera.up),
+                     glm::degrees(camera.fov_y));
+}
+
 bool run_viewer(const Scene& scene, const RendererOptions& initial, const ViewerOptions& viewer,
-                std::string* reason) {
+                Camera* final_camera, std::string* reason) {
+  ViewerInput input;  // outlives the window, whose callbacks point at it
   Glfw glfw;
   if (!glfw.ok) {
-    *reason = "GLFW could not initialise (no display?)";
+    *reason = glfw_failure("GLFW could not initialise");
     return false;
   }
   if (!glfwVulkanSupported()) {
-    *reason = "GLFW reports no Vulkan support for windows";
+    *reason = glfw_failure("GLFW reports no Vulkan support for windows");
     return false;
   }
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
   GLFWwindow* window =
       glfwCreateWindow(initial.width, initial.height, "illum view", nullptr, nullptr);
   if (!window) {
-    *reason = "the window could not be created";
+    *reason = glfw_failure("the window could not be created");
     return false;
   }
   struct WindowGuard {
@@ -456,6 +571,16 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // no imgui.ini in the user's folder
   ImGui::StyleColorsDark();
+  const Camera home = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  Camera camera = home;
+  input.camera = &camera;
+  input.home = home;
+  // Ours first: ImGui's backend installs its own callbacks and chains to these.
+  glfwSetWindowUserPointer(window, &input);
+  glfwGetCursorPos(window, &input.cursor_x, &input.cursor_y);
+  glfwSetCursorPosCallback(window, on_cursor);
+  glfwSetMouseButtonCallback(window, on_mouse_button);
+  glfwSetKeyCallback(window, on_key);
   imgui.glfw = ImGui_ImplGlfw_InitForVulkan(window, true);
   ImGui_ImplVulkan_InitInfo init{};
   init.Instance = ctx.instance();
@@ -479,35 +604,46 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
   gpu::Buffer shot;
 
   RendererOptions options = initial;
-  const Camera home = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
-  Camera camera = home;
   std::unique_ptr<Renderer> renderer;
   RendererOptions built = options;  // what `renderer` was made with (structure)
   PanelState panel;
   panel.base_lights = realtime_lights(scene);
   panel.lights = panel.base_lights;
   const float diagonal = std::max(scene.bounds().diagonal(), 1e-3f);
-  double last_time = glfwGetTime(), last_x = 0.0, last_y = 0.0;
-  bool dragging = false;
+  const double start_time = glfwGetTime();
+  double last_time = start_time;
   double frame_ms = 0.0;
+  // The first frame builds the renderer and the second's interval includes that; the
+  // longest interval after them bounds how far input timing can be off by one frame.
+  double longest_frame_s = 0.0;
   int frames = 0;
   bool have_shot = false;
-  std::printf(
-      "illum view: W/A/S/D/Q/E move, right-drag look, Shift fast, panel on the left, "
-      "Esc quits\n");
-  std::fflush(stdout);
-  while (!glfwWindowShouldClose(window)) {
-    if (viewer.frames > 0 && frames >= viewer.frames) break;
+  const char* ended_by = "closing the window";
+  while (true) {
+    if (glfwWindowShouldClose(window)) break;
+    if (viewer.frames > 0 && frames >= viewer.frames) {
+      ended_by = "--frames";
+      break;
+    }
+    if (viewer.seconds > 0.0 && glfwGetTime() - start_time >= viewer.seconds) {
+      ended_by = "--seconds";
+      break;
+    }
     glfwPollEvents();
+    if (input.quit) {
+      ended_by = "Esc";
+      break;
+    }
     const double now = glfwGetTime();
     const float dt = static_cast<float>(now - last_time);
     last_time = now;
     frame_ms = frame_ms == 0.0 ? dt * 1000.0 : 0.9 * frame_ms + 0.1 * dt * 1000.0;
+    if (frames >= 2) longest_frame_s = std::max(longest_frame_s, static_cast<double>(dt));
 
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);
-    if (fw == 0 || fh == 0) {  // minimised
-      glfwWaitEvents();
+    if (fw == 0 || fh == 0) {  // minimised: wake now and then for --seconds
+      glfwWaitEventsTimeout(0.1);
       continue;
     }
     if (static_cast<uint32_t>(fw) != swapchain->extent.width ||
@@ -526,17 +662,20 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
     draw_panel(ctx, &options, &panel, &camera, home, renderer ? renderer->pass_times() : kNoTimes,
                frame_ms, std::min(340.0f, 0.5f * static_cast<float>(options.width)),
                static_cast<float>(options.height));
+    input.popup_open = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopup);
     ImGui::Render();
-    if (options.technique == Technique::kDeferred && options.shadows == ShadowMode::kVolume)
-      options.shadows = ShadowMode::kMap;
 
     // Camera controls (keys and the mouse belong to the panel while it wants them).
-    const float speed = diagonal * 0.25f * panel.speed *
-                        (glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4.0f : 1.0f);
-    vec3 forward = glm::normalize(camera.look_at - camera.position);
+    input.panel_wants_keyboard = io.WantCaptureKeyboard;
+    input.panel_min = panel.panel_pos;
+    input.panel_max =
+        ImVec2(panel.panel_pos.x + panel.panel_size.x, panel.panel_pos.y + panel.panel_size.y);
+    const bool shift = glfwGetKey(window, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                       glfwGetKey(window, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    const float speed = diagonal * 0.25f * panel.speed * (shift ? 4.0f : 1.0f);
+    const vec3 forward = glm::normalize(camera.look_at - camera.position);
     const vec3 right = glm::normalize(glm::cross(forward, camera.up));
     if (!io.WantCaptureKeyboard) {
-      if (glfwGetKey(window, GLFW_KEY_ESCAPE) == GLFW_PRESS) break;
       vec3 move(0.0f);
       if (glfwGetKey(window, GLFW_KEY_W) == GLFW_PRESS) move += forward;
       if (glfwGetKey(window, GLFW_KEY_S) == GLFW_PRESS) move -= forward;
@@ -547,32 +686,15 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
       camera.position += move * speed * dt;
       camera.look_at += move * speed * dt;
     }
-    double mx, my;
-    glfwGetCursorPos(window, &mx, &my);
-    if (glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS &&
-        (dragging || !io.WantCaptureMouse)) {
-      if (dragging) {
-        const float yaw = -0.005f * static_cast<float>(mx - last_x);
-        const float pitch = -0.005f * static_cast<float>(my - last_y);
-        const float dist = glm::length(camera.look_at - camera.position);
-        forward = glm::rotate(mat4(1.0f), yaw, camera.up) * vec4(forward, 0.0f);
-        const vec3 r2 = glm::normalize(glm::cross(forward, camera.up));
-        const vec3 pitched = glm::rotate(mat4(1.0f), pitch, r2) * vec4(forward, 0.0f);
-        if (std::abs(glm::dot(glm::normalize(pitched), camera.up)) < 0.98f) forward = pitched;
-        camera.look_at = camera.position + glm::normalize(forward) * dist;
-      }
-      dragging = true;
-    } else {
-      dragging = false;
-    }
-    last_x = mx;
-    last_y = my;
+    if (panel.print_camera) print_camera(camera);
+    panel.print_camera = false;
 
     // Per-frame values go straight into the renderer; structural changes rebuild it.
     if (!renderer || !same_structure(options, built) || !renderer->set_options(options)) {
       ctx.wait_idle();
       try {
         auto next = std::make_unique<Renderer>(ctx, scene, options);
+        if (viewer.lightmap.kind != LightmapKind::kNone) next->set_lightmap(viewer.lightmap);
         renderer.reset();
         renderer = std::move(next);
         built = options;
@@ -679,7 +801,13 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
     ILLUM_VK(vkWaitForFences(ctx.device(), 1, &fence, VK_TRUE, UINT64_MAX));
     ILLUM_VK(vkResetFences(ctx.device(), 1, &fence));
     have_shot = readback;
-    ++frames;
+    if (++frames == 1) {
+      std::printf(
+          "illum view: first frame after %.0f ms; W/A/S/D/Q/E move (%.3g units/s, Shift x4), "
+          "right-drag look, R reset camera, C print camera, Esc quits\n",
+          1000.0 * (glfwGetTime() - start_time), diagonal * 0.25f);
+      std::fflush(stdout);
+    }
     if (pr != VK_ERROR_OUT_OF_DATE_KHR && pr != VK_SUBOPTIMAL_KHR) ILLUM_VK(pr);
   }
   ctx.wait_idle();
@@ -701,14 +829,18 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
     write_image(viewer.screenshot, img, wo);
   }
   std::printf(
-      "illum view: %d frames, %ux%u, panel at %d,%d size %dx%d, %zu validation messages%s\n",
+      "illum view: %d frames, %ux%u, panel at %d,%d size %dx%d, %zu validation messages%s, "
+      "longest frame %.0f ms, ended by %s\n",
       frames, swapchain->extent.width, swapchain->extent.height,
       static_cast<int>(panel.panel_pos.x), static_cast<int>(panel.panel_pos.y),
       static_cast<int>(panel.panel_size.x), static_cast<int>(panel.panel_size.y),
       ctx.validation_message_count(),
-      ctx.validation_enabled() ? " (validation on)" : " (validation off)");
+      ctx.validation_enabled() ? " (validation on)" : " (validation off)", 1000.0 * longest_frame_s,
+      ended_by);
   if (have_shot) std::printf("  wrote %s\n", viewer.screenshot.c_str());
+  std::fflush(stdout);
   renderer.reset();
+  if (final_camera) *final_camera = camera;
   return true;
 }
 

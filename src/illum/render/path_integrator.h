@@ -14,6 +14,8 @@
 //              light propagation volume with one propagation step models.
 // MIS pairs (a light sample and the BSDF-sampled hit of the same emitter) always share k,
 // so each mode is an unbiased estimate of its own subset of light paths.
+//
+// The transport itself lives in path_radiance.h, shared with the light-map baker.
 #pragma once
 
 #include <atomic>

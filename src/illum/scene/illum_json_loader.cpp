@@ -312,6 +312,7 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
     scene.settings.height = s.get_int_in("height", scene.settings.height, 1, 1 << 15);
     scene.settings.spp = s.get_int_in("spp", scene.settings.spp, 1, 1 << 24);
     scene.settings.max_bounces = s.get_int_in("max_bounces", scene.settings.max_bounces, 0, 1024);
+    scene.settings.ambient = non_negative_color(s, "ambient", scene.settings.ambient);
   }
 
   root.check_all_used();

@@ -126,6 +126,9 @@ struct SceneSettings {
   int height = 512;
   int spp = 16;
   int max_bounces = 8;
+  // Real-time renderers' constant ambient radiance factor (× albedo) when no light-map is
+  // shown: a stand-in for the indirect light a rasterizer does not compute.
+  Color ambient{0.0f};
 };
 
 struct Scene {

@@ -1,0 +1,143 @@
+// `illum bake SCENE -o FOLDER`: builds the scene's light-map atlas, bakes a path-traced
+// light-map in the chosen basis and writes the folder `illum frame --lightmap` and
+// `illum view --lightmap` read (format: atlas/lightmap_file.h).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "illum/atlas/atlas.h"
+#include "illum/atlas/lightmap_file.h"
+#include "illum/atlas/texel_raster.h"
+#include "illum/bake/lightmap_baker.h"
+#include "illum/core/log.h"
+#include "illum/core/parallel.h"
+#include "illum/scene/load.h"
+
+namespace illum::cli {
+
+namespace {
+
+struct BakeArgs {
+  std::string scene;
+  std::string output;
+  std::string basis = "plain";
+  std::string content = "all";
+  int resolution = 512;
+  float texel_size = 0.0f;
+  int spp = 256;
+  int max_bounces = 8;
+  uint64_t seed = 0;
+  int threads = 0;
+  std::vector<std::string> params;  // atlas and baker keys
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void run_bake(const BakeArgs& args) {
+  // Refuse a bad output folder before the long work (save_lightmap_set checks again).
+  const std::filesystem::path folder = std::filesystem::absolute(args.output).lexically_normal();
+  if (!std::filesystem::is_directory(folder.parent_path()))
+    throw Error(fmt::format("-o {}: folder '{}' does not exist", args.output,
+                            folder.parent_path().string()));
+  if (std::filesystem::exists(folder) && !std::filesystem::exists(folder / "lightmap.json"))
+    throw Error(fmt::format("-o {}: exists and is not a light-map folder; refusing to replace it",
+                            args.output));
+
+  nlohmann::json j = key_values_to_json(args.params);
+  j["resolution"] = args.resolution;
+  j["texel_size"] = args.texel_size;
+  j["basis"] = args.basis;
+  j["content"] = args.content;
+  j["spp"] = args.spp;
+  j["max_bounces"] = args.max_bounces;
+  j["seed"] = args.seed;
+  const Params params(j, "--param");
+  const atlas::AtlasOptions atlas_options = atlas::AtlasOptions::from_params(params);
+  bake::LightmapBakeOptions bake_options = bake::LightmapBakeOptions::from_params(params);
+  bake_options.threads = args.threads;
+  params.check_all_used();
+
+  ThreadLimit limit(args.threads);
+  Scene scene = load_scene(args.scene);
+  const size_t scene_triangles = scene.triangle_count();
+
+  auto t0 = std::chrono::steady_clock::now();
+  atlas::make_meshes_unique(scene);
+  atlas::LightmapSet set;
+  set.atlas = atlas::build_atlas(scene, atlas_options);
+  atlas::apply_atlas(scene, set.atlas);
+  const double atlas_s = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  const RayTracer tracer(scene);
+  const atlas::TexelRaster raster =
+      atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  const double raster_s = seconds_since(t0);
+
+  bake::LightmapBake baked = bake::bake_lightmap(scene, tracer, raster, bake_options);
+
+  set.basis = bake::to_string(baked.basis);
+  set.content = bake::to_string(baked.content);
+  set.layers = std::move(baked.layers);
+  set.scene = scene.name;
+  set.scene_triangles = scene_triangles;
+  const double occupancy =
+      double(raster.covered()) / (double(set.atlas.width) * double(set.atlas.height));
+  set.bake = {{"spp", bake_options.spp},    {"max_bounces", bake_options.max_bounces},
+              {"seed", bake_options.seed},  {"dilate", bake_options.dilate},
+              {"texels", baked.texels},     {"occupancy", occupancy},
+              {"rays", baked.rays},         {"atlas_seconds", atlas_s},
+              {"raster_seconds", raster_s}, {"bake_seconds", baked.seconds}};
+  atlas::save_lightmap_set(args.output, set);
+
+  std::fprintf(stderr,
+               "illum: bake %s, %s/%s: atlas %dx%d, %d charts, texel %.4g m, %zu texels "
+               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %d spp %.2fs (%.2f Mrays/s) "
+               "-> %s\n",
+               scene.name.c_str(), set.basis.c_str(), set.content.c_str(), set.atlas.width,
+               set.atlas.height, set.atlas.chart_count, double(set.atlas.texel_size),
+               raster.covered(), 100.0 * occupancy, atlas_s, raster_s, bake_options.spp,
+               baked.seconds, baked.seconds > 0 ? double(baked.rays) / baked.seconds * 1e-6 : 0.0,
+               args.output.c_str());
+}
+
+}  // namespace
+
+void add_bake_command(CLI::App& app) {
+  auto args = std::make_shared<BakeArgs>();
+  auto* cmd = app.add_subcommand(
+      "bake", "Bake a path-traced light-map (atlas, plain/RNM/SH-L1 layers) into a folder");
+  cmd->add_option("scene", args->scene,
+                  "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
+      ->required();
+  cmd->add_option("-o,--output", args->output,
+                  "output folder (created; an earlier light-map folder is replaced)")
+      ->required();
+  cmd->add_option("--basis", args->basis, "plain, rnm (3 Source basis maps) or sh (SH-L1)")
+      ->capture_default_str();
+  cmd->add_option("--content", args->content,
+                  "all (every light, direct and indirect) or indirect (leaves the direct light "
+                  "of point, spot and sun lights to the real-time renderer)")
+      ->capture_default_str();
+  cmd->add_option("--resolution", args->resolution, "atlas side in texels")->capture_default_str();
+  cmd->add_option("--texel-size", args->texel_size,
+                  "metres per texel (0: the finest that fits the resolution)")
+      ->capture_default_str();
+  cmd->add_option("--spp", args->spp, "hemisphere samples per texel")->capture_default_str();
+  cmd->add_option("--bounces", args->max_bounces, "path vertices after the texel")
+      ->capture_default_str();
+  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same maps)");
+  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("-p,--param", args->params,
+                  "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
+                  "denoise=true|false, denoise_strength)");
+  cmd->callback([args] { run_bake(*args); });
+}
+
+}  // namespace illum::cli

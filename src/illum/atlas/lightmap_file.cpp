@@ -1,0 +1,173 @@
+#include "illum/atlas/lightmap_file.h"
+
+#include <fstream>
+#include <random>
+
+#include <fmt/format.h>
+
+#include "illum/core/error.h"
+#include "illum/core/tonemap.h"
+
+namespace illum::atlas {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kManifest = "lightmap.json";
+constexpr const char* kAtlasFile = "atlas.bin";
+constexpr int kVersion = 1;
+
+std::string layer_name(size_t i) {
+  return fmt::format("layer{}.exr", i);
+}
+
+// Preview exposure: key 0.18 over the log-average of the covered texels' luminance, so a
+// dim indirect-only map and a bright direct map are both readable.
+Image preview_of(const Image& layer) {
+  double log_sum = 0.0;
+  size_t n = 0;
+  for (int y = 0; y < layer.height(); ++y)
+    for (int x = 0; x < layer.width(); ++x) {
+      const float l = luminance(layer.rgb(x, y));
+      if (l > 0.0f) {
+        log_sum += std::log(double(l));
+        ++n;
+      }
+    }
+  const float average = n ? float(std::exp(log_sum / double(n))) : 1.0f;
+  return tone_mapped(layer, ToneMapper::kAces, 0.18f / average);
+}
+
+}  // namespace
+
+int lightmap_layer_count(const std::string& basis) {
+  if (basis == "plain") return 1;
+  if (basis == "rnm") return 3;
+  if (basis == "sh") return 4;
+  throw Error(fmt::format("unknown light-map basis '{}' (plain, rnm or sh)", basis));
+}
+
+void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
+  const size_t expected = size_t(lightmap_layer_count(set.basis));
+  if (set.layers.size() != expected)
+    throw Error(fmt::format("light-map set: basis '{}' needs {} layers, got {}", set.basis,
+                            expected, set.layers.size()));
+  const fs::path target = fs::absolute(folder).lexically_normal();
+  const fs::path parent =
+      target.has_filename() ? target.parent_path() : target.parent_path().parent_path();
+  if (!fs::is_directory(parent))
+    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(), parent.string()));
+  if (fs::exists(target) && !fs::exists(target / kManifest))
+    throw Error(
+        fmt::format("{}: exists and is not a light-map folder (no {}); refusing to replace it",
+                    folder.string(), kManifest));
+
+  std::random_device random;
+  const fs::path staging =
+      parent / fmt::format(".{}.partial-{:08x}", target.filename().string(), random());
+  fs::create_directories(staging);
+  try {
+    nlohmann::json layers = nlohmann::json::array();
+    ImageWriteOptions exr;
+    exr.exr_half = true;
+    for (size_t i = 0; i < set.layers.size(); ++i) {
+      write_image((staging / layer_name(i)).string(), set.layers[i], exr);
+      layers.push_back(layer_name(i));
+    }
+    write_image((staging / "preview.png").string(), preview_of(set.layers[0]));
+    save_atlas(set.atlas, staging / kAtlasFile);
+    const nlohmann::json manifest = {{"format", "illum-lightmap"},
+                                     {"version", kVersion},
+                                     {"basis", set.basis},
+                                     {"content", set.content},
+                                     {"width", set.atlas.width},
+                                     {"height", set.atlas.height},
+                                     {"layers", layers},
+                                     {"atlas", kAtlasFile},
+                                     {"texel_size", set.atlas.texel_size},
+                                     {"charts", set.atlas.chart_count},
+                                     {"scene", set.scene},
+                                     {"scene_triangles", set.scene_triangles},
+                                     {"bake", set.bake}};
+    {
+      std::ofstream file(staging / kManifest);
+      file << manifest.dump(2) << "\n";
+      if (!file) throw Error(fmt::format("{}: cannot write the manifest", folder.string()));
+    }
+    // Swap the finished folder in: an earlier set moves aside first and is removed after.
+    fs::path old;
+    if (fs::exists(target)) {
+      old = parent / fmt::format(".{}.old-{:08x}", target.filename().string(), random());
+      fs::rename(target, old);
+    }
+    fs::rename(staging, target);
+    if (!old.empty()) fs::remove_all(old);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+    throw;
+  }
+}
+
+LightmapSet load_lightmap_set(const fs::path& folder) {
+  const std::string where = folder.string();
+  if (!fs::is_directory(folder))
+    throw Error(fmt::format("light-map folder '{}' does not exist", where));
+  std::ifstream file(folder / kManifest);
+  if (!file) throw Error(fmt::format("{}: no {} (not a light-map folder)", where, kManifest));
+  nlohmann::json manifest;
+  try {
+    manifest = nlohmann::json::parse(file);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("{}/{}: malformed JSON: {}", where, kManifest, e.what()));
+  }
+  LightmapSet set;
+  try {
+    if (manifest.at("format").get<std::string>() != "illum-lightmap" ||
+        manifest.at("version").get<int>() != kVersion)
+      throw Error(fmt::format("{}/{}: not an illum-lightmap version {} manifest", where, kManifest,
+                              kVersion));
+    set.basis = manifest.at("basis").get<std::string>();
+    set.content = manifest.at("content").get<std::string>();
+    if (set.content != "all" && set.content != "indirect")
+      throw Error(fmt::format("{}/{}: unknown content '{}' (all or indirect)", where, kManifest,
+                              set.content));
+    set.scene = manifest.value("scene", "");
+    set.scene_triangles = manifest.at("scene_triangles").get<size_t>();
+    set.bake = manifest.value("bake", nlohmann::json::object());
+    const auto names = manifest.at("layers").get<std::vector<std::string>>();
+    const int expected = lightmap_layer_count(set.basis);
+    if (int(names.size()) != expected)
+      throw Error(fmt::format("{}/{}: basis '{}' needs {} layers, the manifest lists {}", where,
+                              kManifest, set.basis, expected, names.size()));
+    set.atlas = load_atlas(folder / manifest.at("atlas").get<std::string>());
+    for (const std::string& name : names) {
+      if (fs::path(name).has_parent_path())
+        throw Error(
+            fmt::format("{}/{}: layer '{}' must be a file in the folder", where, kManifest, name));
+      Image layer = read_image((folder / name).string(), false);
+      if (layer.width() != set.atlas.width || layer.height() != set.atlas.height)
+        throw Error(fmt::format("{}/{}: {}x{}, but the atlas is {}x{}", where, name, layer.width(),
+                                layer.height(), set.atlas.width, set.atlas.height));
+      for (float v : layer.data())
+        if (!std::isfinite(v))
+          throw Error(fmt::format("{}/{}: holds NaN or infinite values", where, name));
+      set.layers.push_back(std::move(layer));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("{}/{}: {}", where, kManifest, e.what()));
+  }
+  return set;
+}
+
+void apply_lightmap_set(Scene& scene, const LightmapSet& set) {
+  if (scene.triangle_count() != set.scene_triangles)
+    throw Error(
+        fmt::format("light-map set for '{}' ({} triangles) does not fit scene '{}' ({} triangles)",
+                    set.scene, set.scene_triangles, scene.name, scene.triangle_count()));
+  make_meshes_unique(scene);
+  apply_atlas(scene, set.atlas);
+}
+
+}  // namespace illum::atlas

@@ -1,0 +1,49 @@
+// The folder `illum bake` writes and the real-time renderer reads: a baked light-map set.
+//   lightmap.json   manifest: format "illum-lightmap" version 1, basis (plain|rnm|sh),
+//                   content (all|indirect), size, layer file names, atlas file, texel
+//                   size, chart count, scene name and triangle count, and the bake's own
+//                   numbers (spp, seconds, rays, ...) under "bake"
+//   atlas.bin       the atlas (atlas.h: save_atlas), needed to put uv1 on the scene again
+//   layer0.exr ...  linear RGB layers (half floats), meaning per basis as in
+//                   bake/lightmap_baker.h
+//   preview.png     layer 0 tone-mapped, for people
+// The folder is written next to its final place and renamed into it, so a failed or
+// interrupted bake leaves no half-written set; an existing folder is replaced only when it
+// holds an earlier set (a lightmap.json), never an unrelated folder.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "illum/atlas/atlas.h"
+#include "illum/core/image.h"
+
+namespace illum::atlas {
+
+struct LightmapSet {
+  Atlas atlas;
+  std::string basis = "plain";  // plain | rnm | sh
+  std::string content = "all";  // all | indirect
+  std::vector<Image> layers;    // 1 (plain), 3 (rnm) or 4 (sh), all atlas-sized RGB
+  std::string scene;            // the scene's name, for the record and for messages
+  size_t scene_triangles = 0;   // checked on load against the scene it is applied to
+  nlohmann::json bake = nlohmann::json::object();  // free-form numbers of the bake
+};
+
+// Number of layers a basis has; throws Error for an unknown basis name.
+int lightmap_layer_count(const std::string& basis);
+
+void save_lightmap_set(const std::filesystem::path& folder, const LightmapSet& set);
+// Throws Error naming the folder and the problem: missing folder or manifest, malformed
+// JSON, wrong format/version, unknown basis or content, missing or mis-sized layers, a bad
+// atlas file.
+LightmapSet load_lightmap_set(const std::filesystem::path& folder);
+
+// Puts the set's atlas on `scene` (make_meshes_unique + apply_atlas) after checking that the
+// set was baked for a scene with the same triangle count.
+void apply_lightmap_set(Scene& scene, const LightmapSet& set);
+
+}  // namespace illum::atlas

@@ -1,0 +1,375 @@
+#include "illum/bake/lightmap_baker.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "illum/bake/lightmap_denoiser.h"
+#include "illum/core/error.h"
+#include "illum/core/interrupt.h"
+#include "illum/core/log.h"
+#include "illum/core/parallel.h"
+#include "illum/core/progress.h"
+#include "illum/core/rng.h"
+#include "illum/core/sampler.h"
+#include "illum/core/sampling.h"
+#include "illum/render/light_sampler.h"
+#include "illum/render/path_radiance.h"
+
+namespace illum::bake {
+
+namespace {
+
+constexpr int kMaxLayers = 4;
+constexpr int kMaxSpp = 1 << 20;
+constexpr int kMaxBounces = 1024;
+constexpr int kMaxDilate = 64;
+constexpr float kMinDenoiseStrength = 0.1f;
+constexpr float kMaxDenoiseStrength = 100.0f;
+// Russian roulette starts where the path tracer's does (its default rr_depth), counting
+// the texel as the path's first vertex.
+constexpr int kRrDepth = 3;
+
+// Source engine's radiosity normal mapping basis in tangent space (S003 ch. 7).
+constexpr float kRnmBasis[3][3] = {{0.816496581f, 0.0f, 0.577350269f},
+                                   {-0.408248290f, 0.707106781f, 0.577350269f},
+                                   {-0.408248290f, -0.707106781f, 0.577350269f}};
+// Real SH bands 0 and 1 (the shaders' constants, lighting.glsl).
+constexpr float kShY0 = 0.282094792f;
+constexpr float kShY1 = 0.488602512f;
+
+// The texel's surface point as the first vertex of the paths: a Lambertian vertex whose
+// "BSDF × cosine" is the basis function of each layer. Directions are sampled by cosine
+// for the plain basis (its basis function is cos/π itself: every sample then weighs 1),
+// and for the directional bases by an equal mixture of cosine and uniform hemisphere
+// sampling: their basis functions do not vanish at the horizon (Y00, Y1±1, the tilted
+// RNM lobes), where a cosine pdf alone would give them infinite variance; the uniform half
+// bounds every weight by 4π·max|basis|. The pdf of the mixture is what MIS sees, exactly
+// as the path tracer's Phong vertex uses its lobe mixture's pdf.
+struct TexelVertex {
+  vec3 p, ng, n;
+  Frame sampling;  // right-handed frame around n for the warps
+  vec3 t, b;       // the TexelSample tangent frame: b = cross(n, t) · tangent_sign
+  LightmapBasis basis = LightmapBasis::kPlain;
+
+  explicit TexelVertex(const atlas::TexelSample& s, LightmapBasis lightmap_basis)
+      : p(s.position),
+        ng(s.geometric_normal),
+        n(s.normal),
+        sampling(Frame::from_normal(s.normal)),
+        t(s.tangent),
+        b(glm::cross(s.normal, s.tangent) * s.tangent_sign),
+        basis(lightmap_basis) {}
+
+  bool mixture() const { return basis != LightmapBasis::kPlain; }
+  // Above the texel's hemisphere and not below its geometric surface (as Bsdf: no leaks).
+  bool valid(const vec3& w) const { return glm::dot(w, n) > 0.0f && glm::dot(w, ng) > 0.0f; }
+  float density(float cos_theta) const {
+    const float cosine = cos_theta * kInvPi;
+    return mixture() ? 0.5f * cosine + 0.5f * pdf_uniform_hemisphere() : cosine;
+  }
+  float pdf(const vec3& w) const { return valid(w) ? density(glm::dot(w, n)) : 0.0f; }
+  vec3 sample(float u_lobe, const vec2& u) const {
+    const vec3 local =
+        !mixture() || u_lobe < 0.5f ? sample_cosine_hemisphere(u) : sample_uniform_hemisphere(u);
+    return glm::normalize(sampling.to_world(local));
+  }
+  // Basis function of each layer for a valid direction w.
+  void weights(const vec3& w, float* out) const {
+    switch (basis) {
+      case LightmapBasis::kPlain:
+        out[0] = glm::dot(w, n) * kInvPi;
+        return;
+      case LightmapBasis::kRnm: {
+        const vec3 l(glm::dot(w, t), glm::dot(w, b), glm::dot(w, n));
+        for (int i = 0; i < 3; ++i)
+          out[i] = std::max(0.0f,
+                            kRnmBasis[i][0] * l.x + kRnmBasis[i][1] * l.y + kRnmBasis[i][2] * l.z) *
+                   kInvPi;
+        return;
+      }
+      case LightmapBasis::kShL1: {
+        out[0] = kShY0;
+        out[1] = kShY1 * glm::dot(w, b);  // y
+        out[2] = kShY1 * glm::dot(w, n);  // z
+        out[3] = kShY1 * glm::dot(w, t);  // x
+        return;
+      }
+    }
+  }
+};
+
+// Weights of each layer's luminance in the denoiser's guide: a quantity that every layer's
+// noise shows up in. RNM: the mean of the three lobes (together they cover the hemisphere,
+// about the irradiance); SH: the band-0 coefficient (the mean radiance), since the band-1
+// ones change sign with the light's direction.
+std::vector<float> guide_weights(LightmapBasis basis) {
+  switch (basis) {
+    case LightmapBasis::kPlain:
+      return {1.0f};
+    case LightmapBasis::kRnm:
+      return {1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f};
+    case LightmapBasis::kShL1:
+      return {1.0f, 0.0f, 0.0f, 0.0f};
+  }
+  throw Error(fmt::format("light-map bake: unknown basis {}", static_cast<int>(basis)));
+}
+
+void validate(const LightmapBakeOptions& o) {
+  if (o.basis != LightmapBasis::kPlain && o.basis != LightmapBasis::kRnm &&
+      o.basis != LightmapBasis::kShL1)
+    throw Error(fmt::format("light-map bake: unknown basis {}", static_cast<int>(o.basis)));
+  if (o.content != LightmapContent::kAll && o.content != LightmapContent::kIndirect)
+    throw Error(fmt::format("light-map bake: unknown content {}", static_cast<int>(o.content)));
+  if (o.spp < 1 || o.spp > kMaxSpp)
+    throw Error(fmt::format("light-map bake: spp = {} must lie in [1, {}]", o.spp, kMaxSpp));
+  if (o.max_bounces < 0 || o.max_bounces > kMaxBounces)
+    throw Error(fmt::format("light-map bake: max_bounces = {} must lie in [0, {}]", o.max_bounces,
+                            kMaxBounces));
+  if (o.dilate < 0 || o.dilate > kMaxDilate)
+    throw Error(
+        fmt::format("light-map bake: dilate = {} must lie in [0, {}]", o.dilate, kMaxDilate));
+  if (o.threads < 0)
+    throw Error(fmt::format("light-map bake: threads = {} must be ≥ 0", o.threads));
+  if (!(o.denoise_strength >= kMinDenoiseStrength && o.denoise_strength <= kMaxDenoiseStrength))
+    throw Error(fmt::format("light-map bake: denoise_strength = {} must lie in [{}, {}]",
+                            o.denoise_strength, kMinDenoiseStrength, kMaxDenoiseStrength));
+}
+
+void validate(const Scene& scene, const RayTracer& tracer, const atlas::TexelRaster& raster) {
+  if (&tracer.scene() != &scene)
+    throw Error("light-map bake: the ray tracer was built from another scene");
+  if (raster.width < 1 || raster.height < 1 ||
+      raster.sample_of.size() != static_cast<size_t>(raster.width) * raster.height)
+    throw Error(fmt::format("light-map bake: malformed texel raster ({}x{}, {} entries)",
+                            raster.width, raster.height, raster.sample_of.size()));
+  for (const atlas::TexelSample& s : raster.samples) {
+    const bool ok = s.instance >= 0 && static_cast<size_t>(s.instance) < scene.instances.size() &&
+                    s.x >= 0 && s.x < raster.width && s.y >= 0 && s.y < raster.height;
+    const Instance* inst = ok ? &scene.instances[static_cast<size_t>(s.instance)] : nullptr;
+    if (!ok || inst->mesh < 0 || static_cast<size_t>(inst->mesh) >= scene.meshes.size() ||
+        s.triangle < 0 ||
+        static_cast<size_t>(s.triangle) >=
+            scene.meshes[static_cast<size_t>(inst->mesh)].triangle_count())
+      throw Error(fmt::format(
+          "light-map bake: texel ({}, {}) refers to instance {} triangle {}, which scene '{}' "
+          "does not have (raster made from another scene?)",
+          s.x, s.y, s.instance, s.triangle, scene.name));
+  }
+}
+
+}  // namespace
+
+const char* to_string(LightmapBasis basis) {
+  switch (basis) {
+    case LightmapBasis::kPlain:
+      return "plain";
+    case LightmapBasis::kRnm:
+      return "rnm";
+    case LightmapBasis::kShL1:
+      return "sh";
+  }
+  return "unknown";
+}
+
+const char* to_string(LightmapContent content) {
+  switch (content) {
+    case LightmapContent::kAll:
+      return "all";
+    case LightmapContent::kIndirect:
+      return "indirect";
+  }
+  return "unknown";
+}
+
+LightmapBasis lightmap_basis_from_string(const std::string& name) {
+  for (const LightmapBasis b : {LightmapBasis::kPlain, LightmapBasis::kRnm, LightmapBasis::kShL1})
+    if (name == to_string(b)) return b;
+  throw Error(fmt::format("light-map basis must be plain, rnm or sh, not '{}'", name));
+}
+
+LightmapContent lightmap_content_from_string(const std::string& name) {
+  for (const LightmapContent c : {LightmapContent::kAll, LightmapContent::kIndirect})
+    if (name == to_string(c)) return c;
+  throw Error(fmt::format("light-map content must be all or indirect, not '{}'", name));
+}
+
+int layer_count(LightmapBasis basis) {
+  switch (basis) {
+    case LightmapBasis::kPlain:
+      return 1;
+    case LightmapBasis::kRnm:
+      return 3;
+    case LightmapBasis::kShL1:
+      return 4;
+  }
+  throw Error(fmt::format("light-map bake: unknown basis {}", static_cast<int>(basis)));
+}
+
+LightmapBakeOptions LightmapBakeOptions::from_params(const Params& params) {
+  LightmapBakeOptions o;
+  const auto named = [&](const char* key, auto parse, const char* fallback) {
+    const std::string name = params.get<std::string>(key, fallback);
+    try {
+      return parse(name);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {}", params.where(key), e.what()));
+    }
+  };
+  o.basis = named("basis", lightmap_basis_from_string, "plain");
+  o.content = named("content", lightmap_content_from_string, "all");
+  o.spp = params.get_int_in("spp", o.spp, 1, kMaxSpp);
+  o.max_bounces = params.get_int_in("max_bounces", o.max_bounces, 0, kMaxBounces);
+  o.dilate = params.get_int_in("dilate", o.dilate, 0, kMaxDilate);
+  // The struct keeps the raw estimate for library callers; people baking through a file or
+  // the CLI want the noise gone (see the header).
+  o.denoise = params.get<bool>("denoise", true);
+  o.denoise_strength = params.get_float_in("denoise_strength", o.denoise_strength,
+                                           kMinDenoiseStrength, kMaxDenoiseStrength);
+  if (params.has("seed")) {
+    const nlohmann::json& seed = params.raw().at("seed");
+    const bool non_negative =
+        seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0);
+    if (!non_negative)
+      throw Error(fmt::format("{} must be a non-negative integer", params.where("seed")));
+    o.seed = seed.get<uint64_t>();
+    params.mark_used("seed");
+  }
+  return o;
+}
+
+LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
+                           const atlas::TexelRaster& raster, const LightmapBakeOptions& options) {
+  validate(options);
+  validate(scene, tracer, raster);
+  ThreadLimit thread_limit(options.threads);
+  const auto start = std::chrono::steady_clock::now();
+
+  const int layers = layer_count(options.basis);
+  LightmapBake bake;
+  bake.basis = options.basis;
+  bake.content = options.content;
+  for (int i = 0; i < layers; ++i) bake.layers.emplace_back(raster.width, raster.height, 3);
+  bake.variance = Image(raster.width, raster.height, 1);
+  const std::vector<float> guide = guide_weights(options.basis);
+
+  const LightSampler lights(scene);
+  PathRadianceOptions transport_options;
+  // The texel is vertex 0 of every path, so the light that reached it after max_bounces
+  // scatterings was emitted by vertex max_bounces + 1.
+  transport_options.max_bounces = options.max_bounces + 1;
+  transport_options.rr_depth = kRrDepth;
+  const PathRadiance transport(tracer, lights, transport_options);
+  // kIndirect leaves the direct light of delta lights to the real-time renderer; rays never
+  // hit a delta light, so skipping them in next-event estimation at the texel removes
+  // exactly that and nothing else.
+  const bool skip_delta = options.content == LightmapContent::kIndirect;
+
+  const int64_t count = static_cast<int64_t>(raster.samples.size());
+  Progress progress("bake", count, options.progress && Progress::stderr_is_terminal());
+  std::atomic<int64_t> total_rays{0}, dropped{0};
+  const double inv_spp = 1.0 / static_cast<double>(options.spp);
+
+  parallel_for(
+      count,
+      [&](int64_t begin, int64_t end) {
+        int64_t rays = 0, bad = 0, done = 0;
+        for (int64_t i = begin; i < end; ++i) {
+          if (interrupt_requested()) break;  // Ctrl-C: finish quickly, throw below
+          const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+          const TexelVertex v(s, options.basis);
+          // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's
+          // value depends only on (seed, x, y, spp), never on scheduling.
+          SobolSampler sampler(
+              hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
+          glm::dvec3 sum[kMaxLayers] = {};
+          double guide_sum = 0.0, guide_squares = 0.0;
+          float w[kMaxLayers] = {};
+          for (int k = 0; k < options.spp; ++k) {
+            // Texels of a million samples take seconds: poll Ctrl-C inside them too.
+            if ((k & 1023) == 1023 && interrupt_requested()) break;
+            sampler.start_sample(static_cast<uint32_t>(k));
+            Color estimate[kMaxLayers] = {};
+            // The dimensions are drawn in the path tracer's order at a vertex: light
+            // choice, light point, lobe, direction, roulette.
+            const float u_light = sampler.next_1d();
+            const vec2 u_point = sampler.next_2d();
+            const std::optional<DirectLightSample> d = transport.sample_direct(
+                v.p, v.ng, u_light, u_point, skip_delta,
+                [&](const vec3& wi) { return v.valid(wi); },
+                [&](const vec3& wi) { return v.pdf(wi); }, &rays);
+            if (d) {
+              v.weights(d->wi, w);
+              const float scale = d->mis_weight / d->pdf;
+              for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
+            }
+            const float u_lobe = sampler.next_1d();
+            const vec2 u_dir = sampler.next_2d();
+            (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
+            const vec3 wi = v.sample(u_lobe, u_dir);
+            const float pdf = v.pdf(wi);
+            if (pdf > 0.0f) {
+              const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
+              const Color li =
+                  transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, &rays);
+              v.weights(wi, w);
+              for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
+            }
+            bool finite = true;
+            for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
+            if (!finite) {
+              ++bad;
+              continue;
+            }
+            double g = 0.0;
+            for (int j = 0; j < layers; ++j) {
+              sum[j] += glm::dvec3(estimate[j]);
+              g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
+            }
+            guide_sum += g;
+            guide_squares += g * g;
+          }
+          for (int j = 0; j < layers; ++j)
+            bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, Color(sum[j] * inv_spp));
+          // Variance of the mean, s²/n with s² = (Σg² − n·m²)/(n − 1); dropped samples count
+          // as zeros, as in the mean. One sample says nothing about its spread: m² then
+          // stands for it (a relative error of 100%, what one path often has).
+          const double mean = guide_sum * inv_spp;
+          const double variance = options.spp > 1
+                                      ? std::max(guide_squares * inv_spp - mean * mean, 0.0) /
+                                            static_cast<double>(options.spp - 1)
+                                      : mean * mean;
+          bake.variance.pixel(s.x, s.y)[0] = static_cast<float>(variance);
+          ++done;
+        }
+        total_rays += rays;
+        if (bad) dropped += bad;
+        progress.advance(done);
+      },
+      16);
+  if (interrupt_requested()) {
+    progress.finish();
+    throw Interrupted{};
+  }
+  progress.finish();
+  if (dropped.load() > 0)
+    log::warn("bake: {} non-finite samples were replaced by black", dropped.load());
+
+  if (options.denoise) {
+    const auto denoise_start = std::chrono::steady_clock::now();
+    LightmapDenoiseOptions denoise_options;
+    denoise_options.luminance_sigma = options.denoise_strength;
+    denoise_lightmap(scene, raster, bake.layers, bake.variance, guide, denoise_options);
+    bake.denoised = true;
+    bake.denoise_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - denoise_start).count();
+    log::info("bake: denoised {} texels in {:.2f}s", raster.samples.size(), bake.denoise_seconds);
+  }
+  for (Image& layer : bake.layers) atlas::dilate(layer, raster, options.dilate);
+  bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  bake.rays = total_rays.load();
+  bake.texels = raster.samples.size();
+  return bake;
+}
+
+}  // namespace illum::bake

@@ -1,0 +1,89 @@
+// Path-traced light-maps (ALGORITHMS.md items 5, 8, 9): for every covered texel of an
+// atlas, the irradiance arriving at the texel's surface point, estimated with the path
+// tracer's own light transport (next-event estimation + MIS, Russian roulette), in one of
+// three bases the real-time renderer displays (realtime/renderer.h, Lightmap):
+//   plain  1 layer:  E/π = (1/π)∫_H L(ω) (n·ω) dω, RGB (albedo × layer = outgoing radiance
+//                    of a Lambertian surface)
+//   rnm    3 layers: (1/π)∫_H L(ω) max(b_i·ω, 0) dω for the Source basis in tangent space
+//                    b_0 = (√(2/3), 0, 1/√3), b_{1,2} = (−1/√6, ±1/√2, 1/√3) (S003 ch. 7)
+//   sh     4 layers: radiance SH-L1 c_i = ∫_H L(ω) Y_i(ω) dω in tangent space, order Y00,
+//                    Y1−1 (y), Y10 (z), Y11 (x) (core SH convention)
+// H is the hemisphere around the texel's normal; tangent space is the TexelSample frame.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "illum/atlas/texel_raster.h"
+#include "illum/core/image.h"
+#include "illum/core/params.h"
+#include "illum/scene/scene.h"
+#include "illum/trace/ray_tracer.h"
+
+namespace illum::bake {
+
+enum class LightmapBasis { kPlain, kRnm, kShL1 };
+// Which light the map holds. kAll: everything (the real-time renderer then adds no
+// per-light shading). kIndirect: everything except the direct light of point, spot and
+// directional lights at the texel, which the real-time renderer adds per pixel with its
+// shadows ("mixed" lighting); area and environment light stay in the map, direct and
+// indirect.
+enum class LightmapContent { kAll, kIndirect };
+
+const char* to_string(LightmapBasis basis);
+const char* to_string(LightmapContent content);
+LightmapBasis lightmap_basis_from_string(const std::string& name);      // plain|rnm|sh
+LightmapContent lightmap_content_from_string(const std::string& name);  // all|indirect
+int layer_count(LightmapBasis basis);
+
+struct LightmapBakeOptions {
+  LightmapBasis basis = LightmapBasis::kPlain;
+  LightmapContent content = LightmapContent::kAll;
+  int spp = 256;  // hemisphere samples per texel
+  // Path vertices after the texel's point, counted as the path tracer counts them after
+  // the camera: 0 = direct light only (emitters seen from the texel); N = what the path
+  // tracer with max_bounces N + 1 computes at a point it sees.
+  int max_bounces = 8;
+  int dilate = 4;     // border post-processing iterations (atlas::dilate)
+  uint64_t seed = 0;  // same seed + same thread count → same maps
+  // Edge-aware à-trous denoising of the covered texels before dilation
+  // (lightmap_denoiser.h). Off here, so a caller that fills this struct gets the raw Monte
+  // Carlo estimate (unbiased, what the estimator tests check), bit-identical to a baker
+  // without a denoiser; from_params, which the CLI and files go through, turns it on.
+  bool denoise = false;
+  // The denoiser's luminance_sigma: light differences up to about this many standard
+  // deviations of the texels' noise are smoothed over, larger ones kept as edges.
+  float denoise_strength = 4.0f;
+  int threads = 0;       // 0 = all cores
+  bool progress = true;  // progress bar with ETA on a terminal
+
+  // Keys: basis, content, spp (1..1<<20), max_bounces (0..1024), dilate (0..64), seed,
+  // denoise (bool, default true), denoise_strength (0.1..100). Throws Error for
+  // out-of-range values or unknown names.
+  static LightmapBakeOptions from_params(const Params& params);
+};
+
+struct LightmapBake {
+  LightmapBasis basis = LightmapBasis::kPlain;
+  LightmapContent content = LightmapContent::kAll;
+  std::vector<Image> layers;  // layer_count(basis) RGB images of the raster's size
+  // One channel, raster size: at each covered texel the variance of the estimate of the
+  // guide luminance (plain: layer 0's, rnm: the mean of the three layers', sh: c0's),
+  // s²/spp from the texel's samples (spp = 1: the squared estimate), before denoising; 0 at
+  // uncovered texels. Filled whether or not the bake is denoised.
+  Image variance;
+  bool denoised = false;
+  double denoise_seconds = 0.0;  // part of `seconds`
+  double seconds = 0.0;
+  int64_t rays = 0;
+  size_t texels = 0;  // covered texels baked
+};
+
+// Bakes every covered texel of `raster` (made from `scene`, whose meshes carry uv1),
+// denoises the covered texels if asked, and dilates the result. Polls interrupt_requested()
+// (Ctrl-C) and throws Interrupted like the renderers. `tracer` must be built from the same `scene`.
+LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
+                           const atlas::TexelRaster& raster, const LightmapBakeOptions& options);
+
+}  // namespace illum::bake

@@ -1,0 +1,26 @@
+#include "illum/realtime/baked_lightmap.h"
+
+#include <algorithm>
+
+#include "illum/core/error.h"
+
+namespace illum::realtime {
+
+Lightmap prepare_lightmap_display(Scene& scene, const atlas::LightmapSet& set) {
+  atlas::apply_lightmap_set(scene, set);
+  if (set.content == "all") {
+    scene.lights.clear();
+  } else {
+    std::erase_if(scene.lights, [](const Light& light) {
+      return light.type == LightType::kArea || light.type == LightType::kEnvironment;
+    });
+  }
+  Lightmap lightmap;
+  lightmap.kind = set.basis == "plain" ? LightmapKind::kPlain
+                  : set.basis == "rnm" ? LightmapKind::kRnm
+                                       : LightmapKind::kShL1;
+  lightmap.layers = set.layers;
+  return lightmap;
+}
+
+}  // namespace illum::realtime

@@ -1,0 +1,92 @@
+#include "illum/render/path_radiance.h"
+
+#include <algorithm>
+
+#include "illum/render/bsdf.h"
+#include "illum/render/material_eval.h"
+
+namespace illum {
+
+PathRadiance::PathRadiance(const RayTracer& tracer, const LightSampler& lights,
+                           const PathRadianceOptions& options)
+    : tracer_(tracer), scene_(tracer.scene()), lights_(lights), options_(options) {}
+
+Color PathRadiance::incident(Ray ray, const PathVertex& from, SobolSampler& sampler,
+                             int64_t* rays) const {
+  Color l(0.0f), beta(1.0f);
+  int k = from.k;                 // non-delta vertices so far
+  bool specular = from.specular;  // previous vertex was the camera or a delta lobe
+  float prev_pdf = from.pdf;      // sampling pdf of the direction that led here
+  vec3 prev_p = from.p;
+  for (int bounce = from.bounce;; ++bounce) {
+    Hit hit;
+    ++*rays;
+    if (!tracer_.intersect(ray, &hit)) {
+      const int env = lights_.environment_light();
+      if (env >= 0 && allowed(k)) {
+        const Color le = lights_.environment_radiance(ray.direction);
+        float w = 1.0f;
+        if (!specular)
+          w = power_heuristic(prev_pdf, lights_.pmf(env) * lights_.pdf_environment(ray.direction));
+        l += beta * le * w;
+      }
+      break;
+    }
+    const SurfaceInteraction si = tracer_.interaction(ray, hit);
+    if (allowed(k)) {
+      const Color le = surface_emission(scene_, si);
+      if (!is_black(le)) {
+        float w = 1.0f;
+        if (!specular && si.light >= 0)
+          w = power_heuristic(prev_pdf,
+                              lights_.pmf(si.light) * lights_.pdf_li_area(si.light, prev_p, si));
+        l += beta * le * w;
+      }
+    }
+    if (bounce >= options_.max_bounces) break;
+    const Bsdf bsdf(scene_, si);
+    const bool delta = bsdf.is_delta();
+    const int k_next = delta ? k : k + 1;
+    // Nothing further along this path can be counted.
+    if (k_next > options_.k_max) break;
+
+    // Light sampling dimensions are drawn even when unused so that the sampler's
+    // dimensions line up between neighbouring samples.
+    const float u_light = sampler.next_1d();
+    const vec2 u_point = sampler.next_2d();
+    if (!delta && allowed(k_next)) {
+      Color f(0.0f);
+      const std::optional<DirectLightSample> d = sample_direct(
+          si.p, si.ng, u_light, u_point, /*skip_delta=*/false,
+          [&](const vec3& wi) {
+            f = bsdf.eval(si.wo, wi);
+            return !is_black(f);
+          },
+          [&](const vec3& wi) { return bsdf.pdf(si.wo, wi); }, rays);
+      if (d) {
+        const float cos_theta = std::abs(glm::dot(d->wi, si.ns));
+        l += beta * f * d->li * (cos_theta * d->mis_weight / d->pdf);
+      }
+    }
+
+    const float u_lobe = sampler.next_1d();
+    const vec2 u_dir = sampler.next_2d();
+    const std::optional<BsdfSample> bs = bsdf.sample(si.wo, u_lobe, u_dir);
+    if (!bs || is_black(bs->weight)) break;
+    beta *= bs->weight;
+    specular = bs->delta;
+    prev_pdf = bs->pdf;
+    prev_p = si.p;
+    k = k_next;
+    const float u_rr = sampler.next_1d();
+    if (bounce + 1 >= options_.rr_depth) {
+      const float q = std::max(0.05f, 1.0f - std::min(1.0f, max_component(beta)));
+      if (u_rr < q) break;
+      beta /= 1.0f - q;
+    }
+    ray = Ray{offset_ray_origin(si.p, si.ng, bs->wi), bs->wi};
+  }
+  return l;
+}
+
+}  // namespace illum

@@ -1,0 +1,51 @@
+// Small hand-built scenes with light-map coordinates for the raster and baker tests (no
+// atlas builder involved: uv1 is set by hand).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "illum/scene/scene.h"
+
+namespace illum::test {
+
+inline int add_lambert(Scene& scene, const Color& albedo, const Color& emission = Color(0.0f)) {
+  Material m;
+  m.albedo = albedo;
+  m.emission = emission;
+  scene.materials.push_back(m);
+  return static_cast<int>(scene.materials.size()) - 1;
+}
+
+// Adds `mesh` and one instance of it with `transform`; returns the instance index.
+inline int add_instance(Scene& scene, Mesh mesh, const mat4& transform = mat4(1.0f)) {
+  const std::string name = mesh.name;
+  scene.meshes.push_back(std::move(mesh));
+  Instance inst;
+  inst.name = name;
+  inst.mesh = static_cast<int>(scene.meshes.size()) - 1;
+  inst.transform = transform;
+  scene.instances.push_back(inst);
+  return static_cast<int>(scene.instances.size()) - 1;
+}
+
+// The y = 0 square [−half, half]² facing +y (4 shared vertices, 2 triangles), with normals
+// +y, tangents (tangent, sign) and uv1 = ((x + half), (z + half)) / (2·half) mapped into
+// the uv1 rectangle [uv_lo, uv_hi].
+inline Mesh uv_plane(float half, int material, const vec4& tangent = vec4(1, 0, 0, 1),
+                     vec2 uv_lo = vec2(0.0f), vec2 uv_hi = vec2(1.0f)) {
+  Mesh m;
+  m.name = "plane";
+  m.positions = {{-half, 0, half}, {half, 0, half}, {half, 0, -half}, {-half, 0, -half}};
+  m.normals.assign(4, vec3(0, 1, 0));
+  m.tangents.assign(4, tangent);
+  for (const vec3& p : m.positions) {
+    const vec2 t((p.x + half) / (2.0f * half), (p.z + half) / (2.0f * half));
+    m.uv1.push_back(uv_lo + t * (uv_hi - uv_lo));
+  }
+  m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +y
+  m.material = material;
+  return m;
+}
+
+}  // namespace illum::test
