@@ -199,6 +199,91 @@ TEST_F(CliTest, InterruptStopsCleanlyWithoutOutput) {
   }
 }
 
+// `illum bake` writes a complete light-map folder and nothing else; `illum frame
+// --lightmap` shows it.
+TEST_F(CliTest, BakeWritesALightmapFolderThatFrameShows) {
+  const fs::path folder = dir_ / "cornell-lm";
+  const auto r = run("bake cornell --resolution 32 --spp 2 --basis sh -o " + folder.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"lightmap.json", "atlas.bin", "layer0.exr", "layer1.exr", "layer2.exr",
+                           "layer3.exr", "preview.png"})
+    EXPECT_TRUE(fs::exists(folder / name)) << name;
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(dir_))
+    entries += e.path() != dir_ / "stdout.txt" && e.path() != dir_ / "stderr.txt";
+  EXPECT_EQ(entries, 1) << "only the folder, no staging leftovers";
+  const std::string manifest = slurp(folder / "lightmap.json");
+  EXPECT_NE(manifest.find("\"basis\": \"sh\""), std::string::npos) << manifest;
+  // Baking again over an earlier light-map folder replaces it.
+  ASSERT_EQ(run("bake cornell --resolution 32 --spp 2 -o " + folder.string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(folder / "layer1.exr")) << "the plain set has one layer";
+#ifdef ILLUM_HAVE_GPU
+  const fs::path frame = dir_ / "frame.png";
+  const auto f = run("frame cornell --width 32 --height 32 --lightmap " + folder.string() + " -o " +
+                     frame.string());
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_TRUE(fs::exists(frame));
+#endif
+}
+
+TEST_F(CliTest, BakeRefusesBadOptionsAndOutputs) {
+  const fs::path folder = dir_ / "lm";
+  expect_bad_input(run("bake cornell --resolution 8 -o " + folder.string()), "resolution");
+  expect_bad_input(run("bake cornell --spp 0 -o " + folder.string()), "spp");
+  expect_bad_input(run("bake cornell --basis wavelet -o " + folder.string()), "basis");
+  expect_bad_input(run("bake cornell --content direct -o " + folder.string()), "content");
+  expect_bad_input(run("bake cornell -o " + (dir_ / "no" / "lm").string()), "does not exist");
+  expect_bad_input(run("bake cornell --resolution 16 --texel-size 0.5 -o " + folder.string()),
+                   "16");
+  EXPECT_FALSE(fs::exists(folder));
+  // An existing folder that is not a light-map folder is never replaced.
+  fs::create_directories(dir_ / "mine");
+  write("mine/notes.txt", "keep me");
+  expect_bad_input(run("bake cornell --spp 1 -o " + (dir_ / "mine").string()),
+                   "not a light-map folder");
+  EXPECT_EQ(slurp(dir_ / "mine" / "notes.txt"), "keep me");
+}
+
+#ifdef ILLUM_HAVE_GPU
+TEST_F(CliTest, FrameRefusesBadLightmapFolders) {
+  const fs::path frame = dir_ / "frame.png";
+  expect_bad_input(
+      run("frame cornell --lightmap " + (dir_ / "none").string() + " -o " + frame.string()),
+      "does not exist");
+  const fs::path folder = dir_ / "lm";
+  ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 -o " + folder.string()).exit_code, 0);
+  // Baked for another scene.
+  write("tri.obj", kTriangleObj);
+  expect_bad_input(run("frame " + (dir_ / "tri.obj").string() + " --lightmap " + folder.string() +
+                       " -o " + frame.string()),
+                   "does not fit");
+  // A malformed manifest, then a missing layer.
+  const std::string manifest = slurp(folder / "lightmap.json");
+  write("lm/lightmap.json", manifest.substr(0, manifest.size() / 2));
+  expect_bad_input(run("frame cornell --lightmap " + folder.string() + " -o " + frame.string()),
+                   "malformed");
+  write("lm/lightmap.json", manifest);
+  fs::remove(folder / "layer0.exr");
+  expect_bad_input(run("frame cornell --lightmap " + folder.string() + " -o " + frame.string()),
+                   "layer0.exr");
+  EXPECT_FALSE(fs::exists(frame));
+}
+#endif
+
+// Ctrl-C during a bake: exit 130 and no folder (not even a staging one).
+TEST_F(CliTest, InterruptedBakeLeavesNoFolder) {
+  const fs::path folder = dir_ / "lm";
+  const std::string cmd = "sh -c '" + std::string(ILLUM_BINARY_DIR) +
+                          "/bin/illum bake cornell --spp 1000000 -o " + folder.string() +
+                          " 2>/dev/null & pid=$!; sleep 1; kill -INT $pid; wait $pid'";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++entries;
+  EXPECT_EQ(entries, 0);
+}
+
 TEST_F(CliTest, NoSubcommand) {
   const auto r = run("");
   EXPECT_EQ(r.exit_code, 2);
