@@ -766,6 +766,12 @@ struct Renderer::Impl {
         l.depth_compare = VK_COMPARE_OP_LESS_OR_EQUAL;
         l.additive_blend = true;
         use_stencil_zero_test(&l);
+        // The first fragment that adds the light sets the count to 1, so a second,
+        // coplanar surface at the same depth (Sibenik has such duplicates) fails the test
+        // instead of adding the light again; the stencil is cleared before the next light.
+        l.stencil_front =
+            stencil_op(VK_STENCIL_OP_INCREMENT_AND_CLAMP, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_EQUAL);
+        l.stencil_back = l.stencil_front;
         volume_light = gpu::Pipeline(context, scene_pipeline_layout.handle(), l);
       }
     }
