@@ -56,6 +56,7 @@ class ViewerTest : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
+  void expect_window_matches_headless_frame(const std::string& extra);
 
   // `prefix` goes before the program (environment, xvfb-run).
   Outcome run(const std::string& prefix, const std::string& args) {
@@ -77,14 +78,15 @@ class ViewerTest : public ::testing::Test {
 
 constexpr int kWidth = 320, kHeight = 240;
 
-TEST_F(ViewerTest, WindowShowsSceneAndPanelWithoutValidationMessages) {
-  if (!on_path("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh)";
+// The window shows the headless frame of the same options (`extra`) under its panel.
+void ViewerTest::expect_window_matches_headless_frame(const std::string& extra) {
   const fs::path shot = dir_ / "shot.png", ref = dir_ / "ref.png";
   const std::string size =
       " --width " + std::to_string(kWidth) + " --height " + std::to_string(kHeight);
   // Frame 1 lays the panel out, frame 2 draws it at its final size; 4 leaves margin.
-  const Outcome view = run("ILLUM_VULKAN_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24'",
-                           "view cornell" + size + " --frames 4 --screenshot " + shot.string());
+  const Outcome view =
+      run("ILLUM_VULKAN_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24'",
+          "view cornell" + size + extra + " --frames 4 --screenshot " + shot.string());
   ASSERT_EQ(view.exit_code, 0) << view.out << view.err;
   // The headless fallback message would mean no window was opened.
   EXPECT_EQ(view.err.find("no window available"), std::string::npos) << view.err;
@@ -105,7 +107,7 @@ TEST_F(ViewerTest, WindowShowsSceneAndPanelWithoutValidationMessages) {
   ASSERT_GT(ph, 0);
 
   const Outcome frame =
-      run("ILLUM_VULKAN_VALIDATION=1", "frame cornell" + size + " -o " + ref.string());
+      run("ILLUM_VULKAN_VALIDATION=1", "frame cornell" + size + extra + " -o " + ref.string());
   ASSERT_EQ(frame.exit_code, 0) << frame.err;
   // Both read code for code (value/255).
   const illum::Image a = illum::read_image(shot.string(), false);
@@ -143,8 +145,22 @@ TEST_F(ViewerTest, WindowShowsSceneAndPanelWithoutValidationMessages) {
               scene_fraction, scene_total, panel_fraction, panel_total);
   EXPECT_GE(scene_fraction, 0.99);
   EXPECT_GE(panel_fraction, 0.5);
-  fs::copy_file(shot, fs::path(ILLUM_BINARY_DIR) / "viewer_test_shot.png",
+}
+
+TEST_F(ViewerTest, WindowShowsSceneAndPanelWithoutValidationMessages) {
+  if (!on_path("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh)";
+  expect_window_matches_headless_frame("");
+  fs::copy_file(dir_ / "shot.png", fs::path(ILLUM_BINARY_DIR) / "viewer_test_shot.png",
                 fs::copy_options::overwrite_existing);
+}
+
+// A baked light-map folder is shown by the window exactly as by `illum frame`.
+TEST_F(ViewerTest, WindowShowsABakedLightmap) {
+  if (!on_path("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh)";
+  const fs::path folder = dir_ / "cornell-lm";
+  const Outcome bake = run("", "bake cornell --resolution 64 --spp 4 -o " + folder.string());
+  ASSERT_EQ(bake.exit_code, 0) << bake.err;
+  expect_window_matches_headless_frame(" --lightmap " + folder.string());
 }
 
 TEST_F(ViewerTest, WithoutDisplayFallsBackToOneHeadlessFrame) {
