@@ -8,6 +8,7 @@ const float kPi = 3.14159265358979;
 const int kLightPoint = 0;
 const int kLightSpot = 1;
 const int kLightDirectional = 2;
+const int kLightLambertian = 3;  // a spot whose intensity falls off as cos θ (area light)
 
 const int kShadowNone = 0;
 const int kShadowMap = 1;      // PCF with rotated Poisson taps

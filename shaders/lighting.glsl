@@ -81,7 +81,10 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
     l = to * inversesqrt(d2);
     atten = 1.0 / d2;
     if (r > 0.0) atten *= max(1.0 - d2 / (r * r), 0.0);
-    if (type == kLightSpot && dot(-l, light.direction_cos.xyz) < light.direction_cos.w) return false;
+    const float cos_axis = dot(-l, light.direction_cos.xyz);
+    if ((type == kLightSpot || type == kLightLambertian) && cos_axis < light.direction_cos.w)
+      return false;
+    if (type == kLightLambertian) atten *= cos_axis;
   }
   float ndl = dot(s.n, l);
   float cos_term = frame.counts.y != 0 ? pow(0.5 * ndl + 0.5, 2.0) : max(ndl, 0.0);

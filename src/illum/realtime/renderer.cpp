@@ -168,7 +168,6 @@ bool lit_in_real_time(const Light& l) {
 
 std::vector<Light> realtime_lights(const Scene& scene) {
   std::vector<Light> out;
-  const float eps = std::max(scene.bounds().diagonal(), 1e-6f) * 1e-3f;
   for (const Light& l : scene.lights) {
     if (l.type != LightType::kArea) {
       out.push_back(l);
@@ -192,14 +191,18 @@ std::vector<Light> realtime_lights(const Scene& scene) {
     }
     if (area <= 0.0f || glm::length(normal) <= 0.0f) continue;
     Light spot;
-    spot.name = l.name + " (area as spot)";
+    spot.name = l.name + " (area as Lambertian spot)";
     spot.type = LightType::kSpot;
     spot.direction = glm::normalize(normal);
-    spot.position = centroid / area + spot.direction * eps;
+    // Just in front of the emitter, so its own triangles lie behind the light (outside the
+    // cone, and inside the shadow maps' near plane); 1e-3 of the emitter's size keeps the
+    // 1/d² error below 0.1% wherever the far-field model holds.
+    spot.position = centroid / area + spot.direction * (1e-3f * std::sqrt(area));
     spot.cone_half_angle = radians(89.9f);
-    // A one-sided Lambertian emitter has flux Φ = π·L·A; spread over the hemisphere's 2π sr
-    // gives the isotropic-within-the-cone intensity I = L·A/2.
-    spot.intensity = mat.emission * (0.5f * area);
+    // Seen from a distance, a flat one-sided Lambertian emitter of radiance L and area A has
+    // intensity I(θ) = L·A·cos θ about its normal (flux π·L·A).
+    spot.intensity = mat.emission * area;
+    spot.cosine_falloff = true;
     spot.range = l.range;
     out.push_back(spot);
   }
@@ -480,7 +483,7 @@ struct Renderer::Impl {
           type = 0;
           break;
         case LightType::kSpot:
-          type = 1;
+          type = l.cosine_falloff ? 3 : 1;
           break;
         case LightType::kDirectional:
           type = 2;
@@ -1323,6 +1326,8 @@ struct Renderer::Impl {
           const float d2 = std::max(glm::dot(to, to), 1e-12f);
           w = to / std::sqrt(d2);
           radiance = l.intensity / d2;
+          if (l.cosine_falloff)
+            radiance *= std::max(-glm::dot(w, glm::normalize(l.direction)), 0.0f);
         } else {
           continue;
         }

@@ -78,8 +78,8 @@ SilhouetteSource silhouette_source_from_string(const std::string& name);
 
 // The scene's lights as the real-time renderer uses them: point, spot and directional
 // lights unchanged; each area light becomes a hemispherical spot light at its emitter's
-// centroid, facing along the emitter's normal, with intensity L·A/2 (the emitter's flux
-// πLA over 2π sr). Environment lights are ignored.
+// centroid, facing along the emitter's normal, with the far-field intensity of a Lambertian
+// emitter, L·A·cos θ (Light::cosine_falloff; flux πLA). Environment lights are ignored.
 std::vector<Light> realtime_lights(const Scene& scene);
 // Point, spot and directional lights: the ones the real-time passes light with (and that
 // cast stencil shadows); realtime_lights() passes environment lights through unlit.

@@ -101,6 +101,9 @@ struct Light {
   Color irradiance{0.0f};                  // directional: W/m²
   int instance = -1;                       // area: instance whose emissive triangles emit
   float range = 0.0f;  // real-time culling radius r in max(1−(d/r)², 0); 0 = none
+  // Spot only, set by the real-time renderer for an area light seen from afar: intensity
+  // `intensity`·cos θ at angle θ from the axis (a Lambertian emitter), not constant.
+  bool cosine_falloff = false;
 
   float cos_cutoff() const { return std::cos(cone_half_angle); }
   // Ω = 2π(1 − cos θc): the spot's cone solid angle.
