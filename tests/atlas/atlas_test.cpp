@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../scene/test_util.h"  // error_of, contains
 #include "atlas_check.h"
 #include "illum/atlas/atlas.h"
 #include "illum/core/error.h"
@@ -18,20 +19,8 @@ using test::make_mesh;
 using test::make_scene;
 using test::split_grid;
 
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const illum::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no illum::Error was thrown";
-  return "";
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
-}
+using illum::test::contains;
+using illum::test::error_of;
 
 AtlasOptions options_of(int resolution, float texel_size, int padding = 2, float angle = 45.0f) {
   AtlasOptions o;

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "illum/core/error.h"
+
 namespace illum::test {
 
 // A folder under the system temp dir named after the running test, removed on exit.
