@@ -88,22 +88,32 @@ void run_bake(const BakeArgs& args) {
   set.scene_triangles = scene_triangles;
   const double occupancy =
       double(raster.covered()) / (double(set.atlas.width) * double(set.atlas.height));
-  set.bake = {{"spp", bake_options.spp},    {"max_bounces", bake_options.max_bounces},
-              {"seed", bake_options.seed},  {"dilate", bake_options.dilate},
-              {"texels", baked.texels},     {"occupancy", occupancy},
-              {"rays", baked.rays},         {"atlas_seconds", atlas_s},
-              {"raster_seconds", raster_s}, {"bake_seconds", baked.seconds}};
+  set.bake = {{"spp", bake_options.spp},
+              {"max_bounces", bake_options.max_bounces},
+              {"seed", bake_options.seed},
+              {"dilate", bake_options.dilate},
+              {"denoise", baked.denoised},
+              {"denoise_strength", bake_options.denoise_strength},
+              {"texels", baked.texels},
+              {"occupancy", occupancy},
+              {"rays", baked.rays},
+              {"atlas_seconds", atlas_s},
+              {"raster_seconds", raster_s},
+              {"bake_seconds", baked.seconds},
+              {"denoise_seconds", baked.denoise_seconds}};
   atlas::save_lightmap_set(args.output, set);
 
+  const std::string denoised =
+      baked.denoised ? fmt::format(", denoised in {:.2f}s", baked.denoise_seconds) : "";
   std::fprintf(stderr,
                "illum: bake %s, %s/%s: atlas %dx%d, %d charts, texel %.4g m, %zu texels "
-               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %d spp %.2fs (%.2f Mrays/s) "
+               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %d spp %.2fs (%.2f Mrays/s)%s "
                "-> %s\n",
                scene.name.c_str(), set.basis.c_str(), set.content.c_str(), set.atlas.width,
                set.atlas.height, set.atlas.chart_count, double(set.atlas.texel_size),
                raster.covered(), 100.0 * occupancy, atlas_s, raster_s, bake_options.spp,
                baked.seconds, baked.seconds > 0 ? double(baked.rays) / baked.seconds * 1e-6 : 0.0,
-               args.output.c_str());
+               denoised.c_str(), args.output.c_str());
 }
 
 }  // namespace

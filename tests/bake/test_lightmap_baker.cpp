@@ -51,6 +51,7 @@ LightmapBakeOptions options(LightmapBasis basis, int spp, int max_bounces = 4) {
   o.max_bounces = max_bounces;
   o.seed = 1;
   o.progress = false;
+  o.denoise = false;  // the estimator itself is under test (also the struct's default)
   return o;
 }
 

@@ -1,5 +1,7 @@
 #include "illum/atlas/lightmap_file.h"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <random>
 
@@ -22,15 +24,22 @@ std::string layer_name(size_t i) {
   return fmt::format("layer{}.exr", i);
 }
 
-// Preview exposure: key 0.18 over the log-average of the covered texels' luminance, so a
-// dim indirect-only map and a bright direct map are both readable.
+// Preview exposure: key 0.18 over the log-average luminance of the lit texels, so a dim
+// indirect-only map and a bright direct map are both readable. "Lit" is above 1e-4 of the
+// brightest texel: black texels (unused atlas space, texels inside geometry) are left out,
+// and so are the near-black ones a denoiser leaves there, which would otherwise pull the
+// average down and the preview's exposure up.
 Image preview_of(const Image& layer) {
+  float brightest = 0.0f;
+  for (int y = 0; y < layer.height(); ++y)
+    for (int x = 0; x < layer.width(); ++x)
+      brightest = std::max(brightest, luminance(layer.rgb(x, y)));
   double log_sum = 0.0;
   size_t n = 0;
   for (int y = 0; y < layer.height(); ++y)
     for (int x = 0; x < layer.width(); ++x) {
       const float l = luminance(layer.rgb(x, y));
-      if (l > 0.0f) {
+      if (l > 1e-4f * brightest) {
         log_sum += std::log(double(l));
         ++n;
       }

@@ -53,8 +53,10 @@ struct LightmapBakeOptions {
   // without a denoiser; from_params, which the CLI and files go through, turns it on.
   bool denoise = false;
   // The denoiser's luminance_sigma: light differences up to about this many standard
-  // deviations of the texels' noise are smoothed over, larger ones kept as edges.
-  float denoise_strength = 4.0f;
+  // deviations of the difference's noise are smoothed over, larger ones kept as edges.
+  // 3 ≈ SVGF's σ_l = 4 (which divides by one texel's deviation, not the difference's):
+  // lower keeps sharper shadows and more noise (lightmap_denoiser.h, bake/README.md).
+  float denoise_strength = 3.0f;
   int threads = 0;       // 0 = all cores
   bool progress = true;  // progress bar with ETA on a terminal
 
@@ -70,8 +72,9 @@ struct LightmapBake {
   std::vector<Image> layers;  // layer_count(basis) RGB images of the raster's size
   // One channel, raster size: at each covered texel the variance of the estimate of the
   // guide luminance (plain: layer 0's, rnm: the mean of the three layers', sh: c0's),
-  // s²/spp from the texel's samples (spp = 1: the squared estimate), before denoising; 0 at
-  // uncovered texels. Filled whether or not the bake is denoised.
+  // before denoising, from the spread of the means of 2 (spp < 8) or 4 runs of consecutive
+  // samples (spp = 1: the squared estimate); 0 at uncovered texels. Filled whether or not
+  // the bake is denoised.
   Image variance;
   bool denoised = false;
   double denoise_seconds = 0.0;  // part of `seconds`
@@ -81,8 +84,9 @@ struct LightmapBake {
 };
 
 // Bakes every covered texel of `raster` (made from `scene`, whose meshes carry uv1),
-// denoises the covered texels if asked, and dilates the result. Polls interrupt_requested()
-// (Ctrl-C) and throws Interrupted like the renderers. `tracer` must be built from the same `scene`.
+// denoises the covered texels if asked, and dilates the result. Polls
+// interrupt_requested() (Ctrl-C) and throws Interrupted like the renderers. `tracer` must
+// be built from the same `scene`.
 LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
                            const atlas::TexelRaster& raster, const LightmapBakeOptions& options);
 

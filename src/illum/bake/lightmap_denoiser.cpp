@@ -86,6 +86,12 @@ void validate(const Scene& scene, const atlas::TexelRaster& raster,
           "light-map denoise: texel ({}, {}) refers to instance {} triangle {}, which scene '{}' "
           "does not have with uv1 (raster made from another scene?)",
           s.x, s.y, s.instance, s.triangle, scene.name));
+    const float v = variance.pixel(s.x, s.y)[0];
+    if (!(std::isfinite(v) && v >= 0.0f))
+      throw Error(fmt::format("light-map denoise: texel ({}, {}) has variance {}", s.x, s.y, v));
+    for (const Image& layer : layers)
+      if (!is_finite(layer.rgb(s.x, s.y)))
+        throw Error(fmt::format("light-map denoise: texel ({}, {}) is not finite", s.x, s.y));
   }
 }
 
@@ -135,7 +141,7 @@ void denoise_lightmap(const Scene& scene, const atlas::TexelRaster& raster,
       const float* px = layers[k].pixel(s.x, s.y);
       for (size_t c = 0; c < 3; ++c) value[i * channels + 3 * k + c] = px[c];
     }
-    var[i] = std::max(variance.pixel(s.x, s.y)[0], 0.0f);
+    var[i] = variance.pixel(s.x, s.y)[0];
   }
 
   const float inv_plane = 1.0f / options.plane_sigma;

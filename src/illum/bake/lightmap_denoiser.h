@@ -32,7 +32,7 @@ namespace illum::bake {
 
 struct LightmapDenoiseOptions {
   int iterations = 5;            // passes (0..10); pass k reads taps 2^k texels apart
-  float luminance_sigma = 4.0f;  // > 0: larger smooths across larger light differences
+  float luminance_sigma = 3.0f;  // > 0: larger smooths across larger light differences
   float normal_power = 128.0f;   // ≥ 0: SVGF's σ_n
   float plane_sigma = 0.5f;      // > 0: distance from the tangent plane, in texels
   float reach = 2.0f;            // > 0: slack of the world-distance bound over the tap distance
