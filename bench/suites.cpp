@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "illum/core/error.h"
+#include "illum/scene/scene.h"
 
 namespace illum::bench {
 
@@ -21,6 +22,8 @@ std::span<const Suite> suites() {
       {"caustics", "caustic error at equal time: path vs photon vs SPPM (spot and sphere light)",
        &run_caustics},
       {"path", "path-tracing samples/s and rays/s on cornell and sibenik", &run_path},
+      {"lightmap", "light-map baker rays/s vs the path tracer; denoiser error and cost",
+       &run_lightmap},
   };
   return kSuites;
 }
@@ -69,6 +72,21 @@ void write_json(const std::string& path, const nlohmann::json& value) {
     std::filesystem::remove(tmp, ec);
     throw Error(fmt::format("{}: cannot write: {}", path, ec.message()));
   }
+}
+
+void check_output_folder(const std::string& path) {
+  if (path.empty()) return;
+  const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+  if (!std::filesystem::is_directory(parent))
+    throw Error(fmt::format("{}: folder {} does not exist", path, parent.string()));
+}
+
+bool add_sky_if_unlit(Scene& scene) {
+  if (!scene.lights.empty() || scene.environment) return false;
+  Environment sky;
+  sky.constant = Color(1.0f);
+  scene.environment = sky;
+  return true;
 }
 
 double median(std::vector<double> values) {

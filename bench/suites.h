@@ -11,6 +11,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+namespace illum {
+struct Scene;
+}
+
 namespace illum::bench {
 
 using SuiteArgs = std::span<const std::string>;
@@ -30,6 +34,7 @@ int run_rays(SuiteArgs args);     // bench_rays.cpp: ray-query throughput, illum
 int run_photons(SuiteArgs args);  // bench_photons.cpp: photon-map build/query, kd-tree vs nanoflann
 int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs photon vs SPPM
 int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
+int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
 
 // --- helpers shared by suites ---------------------------------------------------------------
 
@@ -43,6 +48,14 @@ nlohmann::json machine_info();
 // Writes `value` to `path` through a temporary file renamed on success; throws
 // illum::Error naming the path on failure.
 void write_json(const std::string& path, const nlohmann::json& value);
+
+// Throws illum::Error naming `path` when the folder it would be written to does not exist
+// (nothing for an empty path): call it before minutes of measuring, not after.
+void check_output_folder(const std::string& path);
+
+// Gives a scene with no light at all (Sibenik before it had a sun) a uniform white sky of
+// radiance 1, so paths do the work a lit scene would; returns whether it did.
+bool add_sky_if_unlit(Scene& scene);
 
 // Median of a non-empty list (mean of the middle two for an even count).
 double median(std::vector<double> values);
