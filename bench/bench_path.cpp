@@ -37,11 +37,7 @@ int run_path(SuiteArgs args) {
   app.add_option("--json", json_path, "write the results here");
   if (!parse_args(app, args)) return 0;
   if (scenes.empty()) scenes = {"cornell", "sibenik"};
-  if (!json_path.empty()) {
-    const std::filesystem::path parent = std::filesystem::absolute(json_path).parent_path();
-    if (!std::filesystem::is_directory(parent))
-      throw Error(fmt::format("{}: folder {} does not exist", json_path, parent.string()));
-  }
+  check_output_folder(json_path);
   const int thread_count = threads > 0 ? threads : ThreadLimit::hardware_threads();
 
   nlohmann::json results = nlohmann::json::array();
@@ -51,13 +47,7 @@ int run_path(SuiteArgs args) {
               "Mrays/s", "rays/smp");
   for (const std::string& name : scenes) {
     Scene scene = load_scene(name);
-    bool added_sky = false;
-    if (scene.lights.empty() && !scene.environment) {
-      Environment sky;
-      sky.constant = Color(1.0f);
-      scene.environment = sky;
-      added_sky = true;
-    }
+    const bool added_sky = add_sky_if_unlit(scene);
     const RayTracer tracer(scene);
     const Camera camera =
         scene_camera(scene, static_cast<float>(width) / static_cast<float>(height));

@@ -181,11 +181,7 @@ int run_rays(SuiteArgs args) {
   app.add_option("--json", json_path, "write the results here");
   if (!parse_args(app, args)) return 0;
 
-  if (!json_path.empty()) {  // fail before minutes of measuring, not after
-    const std::filesystem::path parent = std::filesystem::absolute(json_path).parent_path();
-    if (!std::filesystem::is_directory(parent))
-      throw Error(fmt::format("{}: folder {} does not exist", json_path, parent.string()));
-  }
+  check_output_folder(json_path);  // fail before minutes of measuring, not after
   const ThreadLimit limit(threads);
   const int thread_count = threads > 0 ? threads : ThreadLimit::hardware_threads();
 
