@@ -5,6 +5,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "illum/bake/lightmap_baker.h"
+#include "illum/core/error.h"
 #include "illum/scene/scene.h"
 
 namespace illum::test {
@@ -46,6 +50,17 @@ inline Mesh uv_plane(float half, int material, const vec4& tangent = vec4(1, 0, 
   m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +y
   m.material = material;
   return m;
+}
+
+// The message of the Error LightmapBakeOptions::from_params throws for `options`, or "" if it
+// accepts them.
+inline std::string bake_options_error(const nlohmann::json& options) {
+  try {
+    bake::LightmapBakeOptions::from_params(Params(options, "opts.json"));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace illum::test

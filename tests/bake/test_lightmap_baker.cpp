@@ -447,14 +447,7 @@ TEST(LightmapBaker, OptionsAndNames) {
   EXPECT_EQ(defaults.spp, 256);
   EXPECT_EQ(defaults.basis, LightmapBasis::kPlain);
 
-  auto bad = [](const nlohmann::json& j) {
-    try {
-      LightmapBakeOptions::from_params(Params(j, "opts.json"));
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto bad = test::bake_options_error;
   EXPECT_NE(bad({{"basis", "hl2"}}).find("basis"), std::string::npos);
   EXPECT_NE(bad({{"content", "x"}}).find("content"), std::string::npos);
   EXPECT_NE(bad({{"spp", 0}}).find("spp"), std::string::npos);

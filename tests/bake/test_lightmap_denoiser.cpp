@@ -384,14 +384,7 @@ TEST(LightmapDenoiser, OptionsAndBadInput) {
   EXPECT_FALSE(o.denoise);
   EXPECT_FLOAT_EQ(o.denoise_strength, 2.5f);
   EXPECT_NO_THROW(good.check_all_used());
-  auto bad = [](const nlohmann::json& j) {
-    try {
-      LightmapBakeOptions::from_params(Params(j, "opts.json"));
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto bad = test::bake_options_error;
   EXPECT_NE(bad({{"denoise", "yes"}}).find("denoise"), std::string::npos);
   EXPECT_NE(bad({{"denoise", 1}}).find("denoise"), std::string::npos);
   EXPECT_NE(bad({{"denoise_strength", 0}}).find("denoise_strength"), std::string::npos);

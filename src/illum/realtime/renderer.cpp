@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <initializer_list>
+#include <utility>
 
 #include "illum/core/color.h"
 #include "illum/core/log.h"
@@ -19,38 +21,52 @@ namespace illum::realtime {
 
 using gpu::GpuImage;
 
+namespace {
+
+// The enum value named `name`, or an Error listing the known names of `what`.
+template <typename E>
+E enum_from_string(const std::string& name, const char* what,
+                   std::initializer_list<std::pair<const char*, E>> values) {
+  std::string known;
+  for (const auto& [text, value] : values) {
+    if (name == text) return value;
+    known += (known.empty() ? "" : ", ") + std::string(text);
+  }
+  throw Error(fmt::format("unknown {} '{}' (known: {})", what, name, known));
+}
+
+}  // namespace
+
 ToneMapOp tone_map_op_from_string(const std::string& name) {
-  if (name == "clamp") return ToneMapOp::kClamp;
-  if (name == "reinhard") return ToneMapOp::kReinhard;
-  if (name == "aces") return ToneMapOp::kAces;
-  if (name == "agx") return ToneMapOp::kAgx;
-  throw Error(fmt::format("unknown tone mapper '{}' (known: clamp, reinhard, aces, agx)", name));
+  return enum_from_string<ToneMapOp>(name, "tone mapper",
+                                     {{"clamp", ToneMapOp::kClamp},
+                                      {"reinhard", ToneMapOp::kReinhard},
+                                      {"aces", ToneMapOp::kAces},
+                                      {"agx", ToneMapOp::kAgx}});
 }
 
 ShadowMode shadow_mode_from_string(const std::string& name) {
-  if (name == "none") return ShadowMode::kNone;
-  if (name == "map") return ShadowMode::kMap;
-  if (name == "vsm") return ShadowMode::kVsm;
-  if (name == "volume") return ShadowMode::kVolume;
-  throw Error(fmt::format("unknown shadow technique '{}' (known: none, map, vsm, volume)", name));
+  return enum_from_string<ShadowMode>(name, "shadow technique",
+                                      {{"none", ShadowMode::kNone},
+                                       {"map", ShadowMode::kMap},
+                                       {"vsm", ShadowMode::kVsm},
+                                       {"volume", ShadowMode::kVolume}});
 }
 
 Technique technique_from_string(const std::string& name) {
-  if (name == "forward") return Technique::kForward;
-  if (name == "deferred") return Technique::kDeferred;
-  throw Error(fmt::format("unknown technique '{}' (known: forward, deferred)", name));
+  return enum_from_string<Technique>(
+      name, "technique", {{"forward", Technique::kForward}, {"deferred", Technique::kDeferred}});
 }
 
 DeferredLighting deferred_lighting_from_string(const std::string& name) {
-  if (name == "compute") return DeferredLighting::kCompute;
-  if (name == "volumes") return DeferredLighting::kVolumes;
-  throw Error(fmt::format("unknown deferred_lighting '{}' (known: compute, volumes)", name));
+  return enum_from_string<DeferredLighting>(
+      name, "deferred_lighting",
+      {{"compute", DeferredLighting::kCompute}, {"volumes", DeferredLighting::kVolumes}});
 }
 
 SilhouetteSource silhouette_source_from_string(const std::string& name) {
-  if (name == "cpu") return SilhouetteSource::kCpu;
-  if (name == "gpu") return SilhouetteSource::kGpu;
-  throw Error(fmt::format("unknown silhouettes '{}' (known: cpu, gpu)", name));
+  return enum_from_string<SilhouetteSource>(
+      name, "silhouettes", {{"cpu", SilhouetteSource::kCpu}, {"gpu", SilhouetteSource::kGpu}});
 }
 
 RendererOptions RendererOptions::from_params(const Params& p) {
