@@ -39,14 +39,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 void run_bake(const BakeArgs& args) {
-  // Refuse a bad output folder before the long work (save_lightmap_set checks again).
-  const std::filesystem::path folder = std::filesystem::absolute(args.output).lexically_normal();
-  if (!std::filesystem::is_directory(folder.parent_path()))
-    throw Error(fmt::format("-o {}: folder '{}' does not exist", args.output,
-                            folder.parent_path().string()));
-  if (std::filesystem::exists(folder) && !std::filesystem::exists(folder / "lightmap.json"))
-    throw Error(fmt::format("-o {}: exists and is not a light-map folder; refusing to replace it",
-                            args.output));
+  atlas::check_lightmap_output(args.output);  // before the long work, not after
 
   nlohmann::json j = key_values_to_json(args.params);
   j["resolution"] = args.resolution;

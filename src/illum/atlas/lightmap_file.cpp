@@ -50,6 +50,27 @@ Image preview_of(const Image& layer) {
 
 }  // namespace
 
+namespace {
+
+// The folder a path names, absolute, without a trailing separator ("out/" is "out").
+fs::path output_folder(const fs::path& folder) {
+  fs::path target = fs::absolute(folder).lexically_normal();
+  return target.has_filename() ? target : target.parent_path();
+}
+
+}  // namespace
+
+void check_lightmap_output(const fs::path& folder) {
+  const fs::path target = output_folder(folder);
+  if (!fs::is_directory(target.parent_path()))
+    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
+                            target.parent_path().string()));
+  if (fs::exists(target) && !fs::exists(target / kManifest))
+    throw Error(
+        fmt::format("{}: exists and is not a light-map folder (no {}); refusing to replace it",
+                    folder.string(), kManifest));
+}
+
 int lightmap_layer_count(const std::string& basis) {
   if (basis == "plain") return 1;
   if (basis == "rnm") return 3;
@@ -62,15 +83,9 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
   if (set.layers.size() != expected)
     throw Error(fmt::format("light-map set: basis '{}' needs {} layers, got {}", set.basis,
                             expected, set.layers.size()));
-  const fs::path target = fs::absolute(folder).lexically_normal();
-  const fs::path parent =
-      target.has_filename() ? target.parent_path() : target.parent_path().parent_path();
-  if (!fs::is_directory(parent))
-    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(), parent.string()));
-  if (fs::exists(target) && !fs::exists(target / kManifest))
-    throw Error(
-        fmt::format("{}: exists and is not a light-map folder (no {}); refusing to replace it",
-                    folder.string(), kManifest));
+  check_lightmap_output(folder);
+  const fs::path target = output_folder(folder);
+  const fs::path parent = target.parent_path();
 
   std::random_device random;
   const fs::path staging =

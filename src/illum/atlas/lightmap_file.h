@@ -36,6 +36,10 @@ struct LightmapSet {
 // Number of layers a basis has; throws Error for an unknown basis name.
 int lightmap_layer_count(const std::string& basis);
 
+// Throws Error unless `folder` can be written: its parent folder exists, and it does not
+// exist or holds an earlier light-map set. save_lightmap_set checks this too; callers run it
+// before long work so a bad path fails at once.
+void check_lightmap_output(const std::filesystem::path& folder);
 void save_lightmap_set(const std::filesystem::path& folder, const LightmapSet& set);
 // Throws Error naming the folder and the problem: missing folder or manifest, malformed
 // JSON, wrong format/version, unknown basis or content, missing or mis-sized layers, a bad
