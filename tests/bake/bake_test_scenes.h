@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../render/render_test_scenes.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/core/error.h"
 #include "illum/scene/scene.h"
@@ -50,6 +51,26 @@ inline Mesh uv_plane(float half, int material, const vec4& tangent = vec4(1, 0, 
   m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +y
   m.material = material;
   return m;
+}
+
+// A closed box [−1,1]³ of Lambert albedo a whose every face emits Le toward the inside; the
+// floor (y = −1) is a separate instance carrying uv1. Every point inside receives
+// Le·Σ_{k≤N} a^k after N bounces.
+inline Scene furnace_box(float a, float le) {
+  Scene s;
+  const int mat = add_lambert(s, Color(a), Color(le));
+  const int floor =
+      add_instance(s, uv_plane(1.0f, mat), glm::translate(mat4(1.0f), vec3(0.0f, -1.0f, 0.0f)));
+  std::vector<vec3> rest;
+  const std::vector<vec3> box = inward_box(vec3(-1.0f), vec3(1.0f));
+  for (size_t k = 0; k < box.size(); k += 3)
+    if (!(box[k].y == -1.0f && box[k + 1].y == -1.0f && box[k + 2].y == -1.0f))
+      rest.insert(rest.end(), {box[k], box[k + 1], box[k + 2]});
+  EXPECT_EQ(rest.size(), 30u);
+  const int walls = add_triangles(s, rest, mat, "walls");
+  s.lights.push_back(area_light(floor));
+  s.lights.push_back(area_light(walls));
+  return s;
 }
 
 // The message of the Error LightmapBakeOptions::from_params throws for `options`, or "" if it

@@ -263,31 +263,12 @@ TEST(LightmapBaker, EnvironmentMapShFollowsTheTangentFrame) {
   }
 }
 
-// A closed box [−1,1]³ of Lambert albedo a whose every face emits Le = 1 toward the inside;
-// the floor (y = −1) is a separate instance carrying uv1.
-Scene furnace_box(float a) {
-  Scene s;
-  const int mat = test::add_lambert(s, Color(a), Color(1.0f));
-  const int floor = test::add_instance(s, test::uv_plane(1.0f, mat),
-                                       glm::translate(mat4(1.0f), vec3(0.0f, -1.0f, 0.0f)));
-  std::vector<vec3> rest;
-  const std::vector<vec3> box = test::inward_box(vec3(-1.0f), vec3(1.0f));
-  for (size_t k = 0; k < box.size(); k += 3)
-    if (!(box[k].y == -1.0f && box[k + 1].y == -1.0f && box[k + 2].y == -1.0f))
-      rest.insert(rest.end(), {box[k], box[k + 1], box[k + 2]});
-  EXPECT_EQ(rest.size(), 30u);
-  const int walls = test::add_triangles(s, rest, mat, "walls");
-  s.lights.push_back(test::area_light(floor));
-  s.lights.push_back(test::area_light(walls));
-  return s;
-}
-
 TEST(LightmapBaker, EmissiveFurnaceBox) {
   // Every point inside receives L = Le·Σ_{k≤N} a^k from every direction after at most N
   // bounces (N = max_bounces: 0 is direct light only), so E/π is that sum; the floor's own
   // emission is not part of the light arriving at it.
   const float a = 0.5f;
-  const Scene s = furnace_box(a);
+  const Scene s = test::furnace_box(a, 1.0f);
   for (const int bounces : {0, 1, 1000}) {
     double expected = 0, ak = 1;
     for (int k = 0; k <= std::min(bounces, 60); ++k, ak *= a) expected += ak;

@@ -53,24 +53,6 @@ LightmapBake bake_scene(const Scene& scene, const atlas::TexelRaster& raster,
   return bake::bake_lightmap(scene, tracer, raster, o);
 }
 
-// A closed box [−1,1]³ of Lambert albedo a whose every face emits Le toward the inside; the
-// floor carries uv1 (as in the baker tests). Every point inside receives Le·Σ_{k≤N} a^k.
-Scene furnace_box(float a, float le) {
-  Scene s;
-  const int mat = test::add_lambert(s, Color(a), Color(le));
-  const int floor = test::add_instance(s, test::uv_plane(1.0f, mat),
-                                       glm::translate(mat4(1.0f), vec3(0.0f, -1.0f, 0.0f)));
-  std::vector<vec3> rest;
-  const std::vector<vec3> box = test::inward_box(vec3(-1.0f), vec3(1.0f));
-  for (size_t k = 0; k < box.size(); k += 3)
-    if (!(box[k].y == -1.0f && box[k + 1].y == -1.0f && box[k + 2].y == -1.0f))
-      rest.insert(rest.end(), {box[k], box[k + 1], box[k + 2]});
-  const int walls = test::add_triangles(s, rest, mat, "walls");
-  s.lights.push_back(test::area_light(floor));
-  s.lights.push_back(test::area_light(walls));
-  return s;
-}
-
 struct Stats {
   double mean = 0, sd = 0, rms_error = 0;
 };
@@ -97,7 +79,7 @@ TEST(LightmapDenoiser, SmoothsAUniformlyLitFloorWithoutBias) {
   // nothing), and, being a weighted mean, it must not move the map's mean by more than the
   // noisy mean's own uncertainty (kZ standard errors of the mean over texels).
   const double expected = 1.875;
-  const Scene s = furnace_box(0.5f, 1.0f);
+  const Scene s = test::furnace_box(0.5f, 1.0f);
   const atlas::TexelRaster raster = atlas::rasterize_texels(s, 32, 32);
   ASSERT_EQ(raster.covered(), 1024u);
   const LightmapBake noisy = bake_scene(s, raster, options(4, 3, false));
@@ -146,7 +128,7 @@ TEST(LightmapDenoiser, ShLayersShareTheWeights) {
   const double l = 1.875, y0 = 0.28209479177387814, y1 = 0.4886025119029199;
   const double pi = 3.14159265358979323846;
   const double expected[4] = {l * y0 * 2.0 * pi, 0.0, l * y1 * pi, 0.0};
-  const Scene s = furnace_box(0.5f, 1.0f);
+  const Scene s = test::furnace_box(0.5f, 1.0f);
   const atlas::TexelRaster raster = atlas::rasterize_texels(s, 32, 32);
   LightmapBakeOptions o = options(4, 3, false);
   o.basis = LightmapBasis::kShL1;
@@ -342,7 +324,7 @@ TEST(LightmapDenoiser, OffLeavesTheEstimateAndExactMapsStayExact) {
   EXPECT_TRUE(LightmapBakeOptions::from_params(Params()).denoise);
 
   // Off and on share the estimate: on changes the noisy furnace floor, off is the raw mean.
-  const Scene furnace = furnace_box(0.5f, 1.0f);
+  const Scene furnace = test::furnace_box(0.5f, 1.0f);
   const atlas::TexelRaster raster = atlas::rasterize_texels(furnace, 16, 16);
   LightmapBakeOptions o = options(4, 2, false);
   const LightmapBake off = bake_scene(furnace, raster, o);
