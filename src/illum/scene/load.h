@@ -11,6 +11,10 @@ namespace illum {
 
 struct LoadOptions {
   bool load_textures = true;
+  // A texture file that is missing or cannot be decoded is an error naming it (the README
+  // promises that missing files are errors); with this set it is one warning instead and
+  // the material renders without it (`--allow-missing-textures` on the command line).
+  bool allow_missing_textures = false;
 };
 
 // Loads `path_or_name`: a built-in name or a file path. Validates the result (finite
