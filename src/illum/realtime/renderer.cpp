@@ -1415,10 +1415,7 @@ struct Renderer::Impl {
 Renderer::Renderer(gpu::Context& context, const Scene& scene, const RendererOptions& options) {
   // Before anything is uploaded: Impl's members build GPU objects from these values.
   check_renderer_options(options);
-  check_realtime_scene(scene);
-  const std::vector<Light> lights = realtime_lights(scene);
-  check_realtime_lights(lights);
-  check_single_light(options, lights.size());
+  check_realtime_input(scene, options);
   impl_ = std::make_unique<Impl>(context, scene, options);
 }
 

@@ -126,6 +126,18 @@ void check_realtime_lights(const std::vector<Light>& lights) {
   }
 }
 
+void check_realtime_input(const Scene& scene, const RendererOptions& options) {
+  try {
+    check_realtime_scene(scene);
+    const std::vector<Light> lights = realtime_lights(scene);
+    check_realtime_lights(lights);
+    check_single_light(options, lights.size());
+  } catch (const Error& e) {
+    if (scene.source_path.empty()) throw;
+    throw Error(fmt::format("{}: {}", scene.source_path, e.what()));
+  }
+}
+
 void check_camera(const Camera& c) {
   if (!finite(c.position) || !finite(c.look_at) || !finite(c.up))
     throw Error(fmt::format("camera: position {}, look_at {} and up {} must be finite",

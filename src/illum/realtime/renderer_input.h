@@ -24,6 +24,10 @@ void check_realtime_scene(const Scene& scene);
 void check_realtime_lights(const std::vector<Light>& lights);
 // `single_light`, when set, must name one of `light_count` lights.
 void check_single_light(const RendererOptions& options, size_t light_count);
+// The scene's part of the above, as the Renderer and the viewer run it at their entry:
+// geometry, materials, realtime_lights(scene) and single_light, each message prefixed with
+// the scene's file when it has one.
+void check_realtime_input(const Scene& scene, const RendererOptions& options);
 // A finite position, look_at and up, a view direction that is not zero or parallel to up,
 // and a vertical field of view in (0, 180°).
 void check_camera(const Camera& camera);

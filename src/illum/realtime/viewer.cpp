@@ -472,10 +472,7 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
   // Bad input is refused before a window opens (GLFW would refuse a 0×0 window only as
   // "no window", and the caller would fall back to headless).
   check_renderer_options(initial);
-  check_realtime_scene(scene);
-  const std::vector<Light> scene_lights = realtime_lights(scene);
-  check_realtime_lights(scene_lights);
-  check_single_light(initial, scene_lights.size());
+  check_realtime_input(scene, initial);
   check_camera(scene.camera ? *scene.camera : Camera::framing(scene.bounds()));
   ViewerInput input;  // outlives the window, whose callbacks point at it
   Glfw glfw;
