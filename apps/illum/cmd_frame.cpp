@@ -57,8 +57,7 @@ void run_frame(const FrameArgs& args) {
                                {"tone_mapper", "--tonemap"},
                                {"width", "--width"},
                                {"height", "--height"},
-                               {"exposure", "--exposure"},
-                               {"auto_exposure", "--fixed-exposure"}});
+                               {"exposure", "--exposure"}});
   Scene scene = load_scene(args.scene);
   realtime::Lightmap lightmap;
   if (!args.lightmap.empty())
