@@ -58,9 +58,13 @@ vec3 brdf(Surface s, vec3 l, vec3 v) {
   if (s.type == 1) {  // Phong, energy-normalized
     vec3 r = reflect(-l, s.n);
     f += s.specular * (s.exponent + 2.0) / (2.0 * kPi) * pow(max(dot(r, v), 0.0), s.exponent);
-  } else if (s.type == 2) {  // Blinn
+  } else if (s.type == 2) {  // Blinn, with the offline BSDF's exact normal-incidence
+    // normalization (n+2)(n+4) / (8π(2^(−n/2) + n)) (render/bsdf.cpp: the usual (n+8)/(8π)
+    // reflects more than it receives; 3.9% brighter at n = 40)
     vec3 h = normalize(l + v);
-    f += s.specular * (s.exponent + 8.0) / (8.0 * kPi) * pow(max(dot(h, s.n), 0.0), s.exponent);
+    float n = s.exponent;
+    f += s.specular * (n + 2.0) * (n + 4.0) / (8.0 * kPi * (exp2(-0.5 * n) + n)) *
+         pow(max(dot(h, s.n), 0.0), n);
   }
   return f;
 }

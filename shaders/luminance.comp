@@ -1,5 +1,6 @@
 #version 450
-// Pass 1 of the log-average luminance: each 16×16 tile sums log(δ + L) into partials[tile].
+// Pass 1 of the log-average luminance: each 16×16 tile sums log(δ + L) into partials[tile]
+// (δ = 1e-4: realtime::kLogAverageDelta, which the tests use to recompute L_avg on the CPU).
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = 0) uniform sampler2D hdr;
 layout(std430, set = 0, binding = 1) buffer Partials { float partials[]; };

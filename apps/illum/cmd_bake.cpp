@@ -15,6 +15,7 @@
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/load.h"
+#include "option_checks.h"
 
 namespace illum::cli {
 
@@ -42,6 +43,13 @@ void run_bake(const BakeArgs& args) {
   atlas::check_lightmap_output(args.output);  // before the long work, not after
 
   nlohmann::json j = key_values_to_json(args.params);
+  refuse_params_of_options(j, {{"resolution", "--resolution"},
+                               {"texel_size", "--texel-size"},
+                               {"basis", "--basis"},
+                               {"content", "--content"},
+                               {"spp", "--spp"},
+                               {"max_bounces", "--bounces"},
+                               {"seed", "--seed"}});
   j["resolution"] = args.resolution;
   j["texel_size"] = args.texel_size;
   j["basis"] = args.basis;
@@ -127,16 +135,24 @@ void add_bake_command(CLI::App& app) {
                   "all (every light, direct and indirect) or indirect (leaves the direct light "
                   "of point, spot and sun lights to the real-time renderer)")
       ->capture_default_str();
-  cmd->add_option("--resolution", args->resolution, "atlas side in texels")->capture_default_str();
+  // Well-formed numbers of the right sign here; the atlas and the baker own the exact ranges.
+  cmd->add_option("--resolution", args->resolution, "atlas side in texels")
+      ->transform(number(1, INT_MAX))
+      ->capture_default_str();
   cmd->add_option("--texel-size", args->texel_size,
                   "metres per texel (0: the finest that fits the resolution)")
+      ->transform(number(0.0f, FLT_MAX))
       ->capture_default_str();
-  cmd->add_option("--spp", args->spp, "hemisphere samples per texel")->capture_default_str();
+  cmd->add_option("--spp", args->spp, "hemisphere samples per texel")
+      ->transform(number(1, INT_MAX))
+      ->capture_default_str();
   cmd->add_option("--bounces", args->max_bounces, "path vertices after the texel")
+      ->transform(number(0, INT_MAX))
       ->capture_default_str();
-  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same maps)");
+  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same maps)")
+      ->transform(number<uint64_t>(0, UINT64_MAX));
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->transform(number(0, 4096));
   cmd->add_option("-p,--param", args->params,
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
                   "denoise=true|false, denoise_strength)");

@@ -17,6 +17,7 @@
 #include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/scene/load.h"
+#include "option_checks.h"
 
 namespace illum::cli {
 
@@ -51,6 +52,12 @@ void run_frame(const FrameArgs& args) {
   if (args.warmup < 0) throw Error(fmt::format("--warmup {} must be ≥ 0", args.warmup));
 
   nlohmann::json j = key_values_to_json(args.params);
+  refuse_params_of_options(j, {{"technique", "--technique"},
+                               {"shadows", "--shadows"},
+                               {"tone_mapper", "--tonemap"},
+                               {"width", "--width"},
+                               {"height", "--height"},
+                               {"exposure", "--exposure"}});
   Scene scene = load_scene(args.scene);
   realtime::Lightmap lightmap;
   if (!args.lightmap.empty())
@@ -167,17 +174,22 @@ void add_frame_command(CLI::App& app) {
       ->check(CLI::IsMember({"clamp", "reinhard", "aces", "agx"}))
       ->capture_default_str();
   cmd->add_option("--width", args->width, "width (default: scene settings)")
-      ->check(CLI::Range(1, 16384));
+      ->transform(number(1, 16384));
   cmd->add_option("--height", args->height, "height (default: scene settings)")
-      ->check(CLI::Range(1, 16384));
+      ->transform(number(1, 16384));
   cmd->add_option("--frames", args->frames, "frames to time (median reported)")
+      ->transform(number(1, INT_MAX))
       ->capture_default_str();
-  cmd->add_option("--warmup", args->warmup, "untimed frames first")->capture_default_str();
+  cmd->add_option("--warmup", args->warmup, "untimed frames first")
+      ->transform(number(0, INT_MAX))
+      ->capture_default_str();
   cmd->add_option("--json", args->json, "write the timings as JSON to this file");
   cmd->add_option("--device", args->device, "pick the Vulkan device whose name contains this");
   cmd->add_option("--lightmap", args->lightmap,
                   "show a light-map folder written by `illum bake` (replaces the lights it holds)");
-  cmd->add_option("--exposure", args->exposure, "exposure multiplier")->capture_default_str();
+  cmd->add_option("--exposure", args->exposure, "exposure multiplier")
+      ->transform(number(0.0f, 1e6f))
+      ->capture_default_str();
   cmd->add_flag("--fixed-exposure", args->fixed_exposure,
                 "no auto-exposure from the log-average luminance");
   cmd->add_option(

@@ -12,6 +12,7 @@
 #include "illum/core/tonemap.h"
 #include "illum/render/integrator.h"
 #include "illum/scene/load.h"
+#include "option_checks.h"
 
 namespace illum::cli {
 
@@ -111,23 +112,25 @@ void add_render_command(CLI::App& app) {
                   "output image: .png .jpg (tone-mapped) or .exr .hdr (linear)")
       ->required();
   cmd->add_option("--width", args->width, "image width (default: scene settings)")
-      ->check(CLI::Range(1, kMaxImageSide));
+      ->transform(number(1, kMaxImageSide));
   cmd->add_option("--height", args->height, "image height (default: scene settings)")
-      ->check(CLI::Range(1, kMaxImageSide));
+      ->transform(number(1, kMaxImageSide));
   cmd->add_option("--spp", args->spp, "samples per pixel (default: scene settings)")
-      ->check(CLI::Range(1, 1 << 24));
-  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same image)");
+      ->transform(number(1, 1 << 24));
+  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same image)")
+      ->transform(number<uint64_t>(0, UINT64_MAX));
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->transform(number(0, 4096));
   cmd->add_option("--time", args->seconds,
                   "time budget in seconds for progressive integrators (0: none)")
-      ->check(CLI::Range(0.0, 1e7));
+      ->transform(number(0.0, 1e7));
   cmd->add_option("-p,--param", args->params, "integrator parameter key=value (repeatable)");
   cmd->add_option("--bounces", args->bounces,
                   "path: max bounces (a number) or a mode: all, direct, indirect1");
   cmd->add_option("--shadows", args->shadows, "whitted: shadow rays on or off")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
+      ->transform(number(0.0f, 1e6f))
       ->capture_default_str();
   cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces")
       ->capture_default_str();

@@ -18,6 +18,7 @@
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/viewer.h"
 #include "illum/scene/load.h"
+#include "option_checks.h"
 
 namespace illum::cli {
 
@@ -126,18 +127,20 @@ void add_view_command(CLI::App& app) {
       ->check(CLI::IsMember({"clamp", "reinhard", "aces", "agx"}))
       ->capture_default_str();
   cmd->add_option("--width", args->width, "window width")
-      ->check(CLI::Range(1, 16384))
+      ->transform(number(1, 16384))
       ->capture_default_str();
   cmd->add_option("--height", args->height, "window height")
-      ->check(CLI::Range(1, 16384))
+      ->transform(number(1, 16384))
       ->capture_default_str();
   cmd->add_option("--fallback-output", args->fallback_output,
                   "image written when no window can be opened")
       ->capture_default_str();
   cmd->add_option("--frames", args->frames, "close the window after N frames (0: run until closed)")
+      ->transform(number(0, INT_MAX))
       ->capture_default_str();
   cmd->add_option("--seconds", args->seconds,
                   "close the window after S seconds (0: run until closed)")
+      ->transform(number(0.0, 1e7))
       ->capture_default_str();
   cmd->add_option("--screenshot", args->screenshot,
                   "write the last presented frame, panel included, to this .png");

@@ -10,6 +10,7 @@
 #include "illum/core/image.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/log.h"
+#include "option_checks.h"
 
 namespace illum::cli {
 
@@ -41,6 +42,9 @@ nlohmann::json key_values_to_json(const std::vector<std::string>& items) {
     const auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
       throw Error(fmt::format("--param '{}' must look like key=value", kv));
+    if (eq + 1 == kv.size()) throw Error(fmt::format("--param '{}' has no value after '='", kv));
+    if (j.contains(kv.substr(0, eq)))
+      throw Error(fmt::format("--param '{}' is given more than once", kv.substr(0, eq)));
     j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1));
   }
   return j;
@@ -82,6 +86,7 @@ int main(int argc, char** argv) {
 #ifdef ILLUM_HAVE_VIEW_COMMAND
   illum::cli::add_view_command(app);
 #endif
+  illum::cli::refuse_empty_values(app);
 
   illum::install_interrupt_handler();
   try {

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <random>
 
+#include <glm/gtc/packing.hpp>
+
 #include <gtest/gtest.h>
 
 #include "illum/atlas/atlas.h"
@@ -179,6 +181,174 @@ TEST(LightmapDisplay, CornellLightmapFrameMatchesPathTracer) {
   EXPECT_EQ(context().validation_message_count(), messages_before);
   std::printf("blocks within 15%%: %.1f%%, mean ratio %.4f\n", 100.0 * s.within_fraction,
               s.mean_ratio);
+}
+
+// Light-map display per pixel, with maps that change from texel to texel (random, on a
+// 16×8 atlas) on a quad whose uv1 covers a sub-rectangle of the atlas turned by 90° against
+// its uv0 and its position: a flipped, swapped or offset uv1, or a layer read from the wrong
+// slice, moves every pixel by about the texel-to-texel change (tens of per cent), while a
+// correct display agrees with the CPU reference within the bilinear filter's sub-texel
+// precision. Plain, RNM and SH-L1 maps; the quad carries a constant tilted normal map so
+// RNM's and SH-L1's directional terms weigh the layers unequally.
+namespace uv1 {
+
+constexpr int kFrame = 32, kMapW = 16, kMapH = 8;
+
+// Random layer values in [lo, hi], rounded to fp16 as the upload (R16G16B16A16_SFLOAT)
+// stores them, so the reference reads what the GPU reads.
+Image random_layer(float lo, float hi, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> value(lo, hi);
+  Image im(kMapW, kMapH, 3);
+  for (float& v : im.data()) v = glm::unpackHalf1x16(glm::packHalf1x16(value(rng)));
+  return im;
+}
+
+// Clamp-to-edge bilinear lookup (the light-map sampler), texel centres at (i + 0.5)/size.
+Color bilinear_clamped(const Image& im, vec2 uv) {
+  const float x = uv.x * im.width() - 0.5f, y = uv.y * im.height() - 0.5f;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float tx = x - x0, ty = y - y0;
+  auto at = [&](int i, int j) {
+    return im.rgb(std::clamp(i, 0, im.width() - 1), std::clamp(j, 0, im.height() - 1));
+  };
+  return (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
+         ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
+}
+
+// 2^-bits × (largest neighbour step along x plus along y) of one layer: the most the GPU's
+// quantized filter weights can move a lookup.
+float filter_error(const Image& im) {
+  const int bits = static_cast<int>(context().limits().subTexelPrecisionBits);
+  float sx = 0.0f, sy = 0.0f;
+  for (int y = 0; y < im.height(); ++y)
+    for (int x = 0; x < im.width(); ++x)
+      for (int k = 0; k < 3; ++k) {
+        if (x + 1 < im.width())
+          sx = std::max(sx, std::abs(im.pixel(x, y)[k] - im.pixel(x + 1, y)[k]));
+        if (y + 1 < im.height())
+          sy = std::max(sy, std::abs(im.pixel(x, y)[k] - im.pixel(x, y + 1)[k]));
+      }
+  return std::ldexp(sx + sy, -bits);
+}
+
+// uv1 at a point (x, y) of the quad z = 0, |x|, |y| ≤ 1: u1 follows y, v1 follows −x, inside
+// [0.2, 0.8] × [0.25, 0.75] of the atlas.
+vec2 uv1_at(float x, float y) {
+  return {0.5f + 0.3f * y, 0.5f - 0.25f * x};
+}
+
+Scene quad(const vec3& n_ts) {
+  Scene s;
+  Material m;
+  m.albedo = Color(0.5f, 0.6f, 0.7f);
+  Texture t;
+  t.srgb = false;
+  t.image = Image(4, 4, 4, 1.0f);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int k = 0; k < 3; ++k) t.image.pixel(x, y)[k] = n_ts[k] * 0.5f + 0.5f;
+  s.textures.push_back(t);
+  m.normal_texture = 0;
+  s.materials.push_back(m);
+  Mesh q;
+  q.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  q.normals.assign(4, vec3(0, 0, 1));
+  q.tangents.assign(4, vec4(1, 0, 0, 1));
+  q.uv0 = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  for (const vec3& p : q.positions) q.uv1.push_back(uv1_at(p.x, p.y));
+  q.indices = {0, 1, 2, 0, 2, 3};
+  s.meshes.push_back(q);
+  s.instances.push_back({"", 0, mat4(1.0f)});
+  Camera c;
+  c.position = vec3(0, 0, 2);
+  c.look_at = vec3(0, 0, 0);
+  c.fov_y = radians(30.0f);  // the quad fills the frame: no edges to exclude
+  s.camera = c;
+  return s;
+}
+
+}  // namespace uv1
+
+TEST(LightmapDisplay, NonConstantMapsFollowUv1PerPixel) {
+  using namespace uv1;
+  ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
+  const size_t messages_before = context().validation_message_count();
+  // The normal map stores 8-bit codes of n; the reference uses the normal decoded from them.
+  const vec3 wanted = glm::normalize(vec3(0.5f, -0.3f, 0.8f));
+  vec3 n;
+  for (int k = 0; k < 3; ++k)
+    n[k] = std::round((wanted[k] * 0.5f + 0.5f) * 255.0f) / 255.0f * 2.0f - 1.0f;
+  n = glm::normalize(n);
+  const Scene scene = quad(wanted);
+  const Color albedo = scene.materials[0].albedo;
+  RendererOptions options;
+  options.width = options.height = kFrame;
+  options.shadows = ShadowMode::kNone;
+  Renderer renderer(context(), scene, options);
+
+  // Per kind: the layers and each layer's weight in the displayed value at normal n.
+  struct Kind {
+    const char* name;
+    LightmapKind kind;
+    std::vector<Image> layers;
+    std::vector<float> weights;
+  };
+  const vec3 b[3] = {{0.816496581f, 0.0f, 0.577350269f},
+                     {-0.408248290f, 0.707106781f, 0.577350269f},
+                     {-0.408248290f, -0.707106781f, 0.577350269f}};
+  float w[3], sum = 0.0f;
+  for (int i = 0; i < 3; ++i) {
+    w[i] = std::max(glm::dot(n, b[i]), 0.0f);
+    w[i] *= w[i];
+    sum += w[i];
+  }
+  const float sh1 = (2.0f / 3.0f) * 0.488603f;
+  const std::vector<Kind> kinds = {
+      {"plain", LightmapKind::kPlain, {random_layer(0.2f, 1.2f, 1)}, {n.z}},
+      {"RNM",
+       LightmapKind::kRnm,
+       {random_layer(0.2f, 1.2f, 2), random_layer(0.2f, 1.2f, 3), random_layer(0.2f, 1.2f, 4)},
+       {w[0] / sum, w[1] / sum, w[2] / sum}},
+      {"SH-L1",
+       LightmapKind::kShL1,
+       {random_layer(0.5f, 1.5f, 5), random_layer(-0.3f, 0.3f, 6), random_layer(-0.3f, 0.3f, 7),
+        random_layer(-0.3f, 0.3f, 8)},
+       {0.282095f, sh1 * n.y, sh1 * n.z, sh1 * n.x}}};
+  for (const Kind& kind : kinds) {
+    renderer.set_lightmap({kind.kind, kind.layers, 1.0f});
+    renderer.render(*scene.camera);
+    const Image frame = renderer.hdr();
+    // Tolerance: each layer's filter bound times its weight's magnitude, plus fp16 output
+    // rounding and float shading (2⁻¹⁰ of the value).
+    float filter = 0.0f;
+    for (size_t l = 0; l < kind.layers.size(); ++l)
+      filter += std::abs(kind.weights[l]) * filter_error(kind.layers[l]);
+    size_t outside = 0;
+    double worst = 0.0;
+    for (int y = 0; y < kFrame; ++y)
+      for (int x = 0; x < kFrame; ++x) {
+        const Ray ray = scene.camera->generate_ray(x + 0.5f, y + 0.5f, kFrame, kFrame);
+        const vec3 p = ray.origin + ray.direction * (-ray.origin.z / ray.direction.z);
+        ASSERT_LT(std::max(std::abs(p.x), std::abs(p.y)), 1.0f) << "the quad must fill the frame";
+        Color e(0.0f);
+        for (size_t l = 0; l < kind.layers.size(); ++l)
+          e += kind.weights[l] * bilinear_clamped(kind.layers[l], uv1_at(p.x, p.y));
+        const Color expected = albedo * glm::max(e, Color(0.0f));
+        const Color got = frame.rgb(x, y);
+        for (int k = 0; k < 3; ++k) {
+          const double allowed = albedo[k] * filter + std::ldexp(std::abs(expected[k]), -10);
+          const double ratio = std::abs(double(got[k]) - expected[k]) / allowed;
+          worst = std::max(worst, ratio);
+          outside += ratio > 1.0 ? 1 : 0;
+        }
+      }
+    std::printf(
+        "light-map %-6s per pixel: %zu of %d values outside the tolerance, worst %.3f of it\n",
+        kind.name, outside, 3 * kFrame * kFrame, worst);
+    EXPECT_EQ(outside, 0u) << kind.name;
+  }
+  EXPECT_EQ(context().validation_message_count(), messages_before);
 }
 
 }  // namespace

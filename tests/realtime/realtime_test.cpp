@@ -229,6 +229,67 @@ TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
   }
 }
 
+// Auto-exposure: the log-average luminance the GPU computed (and the tone mapper divided the
+// key by) must equal the one computed here from the same HDR image, and the 8-bit output
+// (clamp mapper, so nothing but the exposure shapes it) must be HDR × exposure × key / L_avg.
+TEST_F(RealtimeTest, AutoExposureScalesByKeyOverLogAverage) {
+  const Scene scene = test::cornell_point_light();
+  RendererOptions o;
+  o.width = o.height = 32;
+  o.shadow_resolution = 64;
+  o.tone_mapper = ToneMapOp::kClamp;
+  o.auto_exposure = true;
+  o.exposure = 0.8f;
+  o.key = 0.2f;
+  Renderer renderer(context(), scene, o);
+  renderer.render(*scene.camera);
+  const Image hdr = renderer.hdr();
+  const Image codes = renderer.output_image().readback();  // sRGB-encoded, in [0, 1]
+  const float gpu_average = renderer.log_average_luminance();
+
+  const size_t n = hdr.pixel_count();
+  double sum_log = 0.0, sum_abs_log = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const Color c = hdr.rgb(static_cast<int>(i % 32), static_cast<int>(i / 32));
+    const double l = std::log(double(kLogAverageDelta) +
+                              std::max(0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b, 0.0));
+    sum_log += l;
+    sum_abs_log += std::abs(l);
+  }
+  const double mean_log = sum_log / n, average = std::exp(mean_log);
+  // Float32 error bound of the GPU's reduction: each log within 3 ulp (+ 2⁻²¹ absolute near
+  // 1, Vulkan's precision rule) of its luminance, itself within 3 ulp; the sums in two
+  // passes of 8 tree levels each plus one serial step per 256 tiles, one rounding of every
+  // partial per level; exp within (3 + 2|x|) ulp.
+  const double ulp = std::ldexp(1.0, -23);
+  const double levels = 16.0 + std::ceil(double(n) / (256.0 * 256.0));
+  const double bound = (3.0 * ulp * sum_abs_log + n * (std::ldexp(1.0, -21) + 3.0 * ulp) +
+                        (levels + 1.0) * 0.5 * ulp * sum_abs_log) /
+                           n +
+                       (3.0 + 2.0 * std::abs(mean_log)) * ulp;
+  std::printf("auto-exposure: L_avg GPU %.7g, CPU %.7g (relative difference %.2e, bound %.2e)\n",
+              gpu_average, average, std::abs(gpu_average / average - 1.0), bound);
+  EXPECT_LE(std::abs(gpu_average / average - 1.0), bound);
+
+  // The display values: srgb(clamp(HDR × s)) with s = exposure · key / L_avg, stored in 8
+  // bits (either nearest code: < 1 code), plus what the bound above moves s by.
+  const double scale = o.exposure * o.key / average;
+  size_t compared = 0, outside = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const double v = hdr.rgb(x, y)[k] * scale;
+        if (v >= 1.0) continue;  // clipped: says nothing about the scale
+        const double expected = 255.0 * srgb_encode(float(v));
+        const double moved = 255.0 * srgb_encode(float(std::min(1.0, v * (1.0 + bound))));
+        const double got = 255.0 * codes.pixel(x, y)[k];
+        ++compared;
+        outside += std::abs(got - expected) > 1.0 + (moved - expected) + 1e-3 ? 1 : 0;
+      }
+  EXPECT_GT(compared, 3u * 32 * 32 / 2) << "most values must be below the clip";
+  EXPECT_EQ(outside, 0u) << "of " << compared << " 8-bit values";
+}
+
 TEST_F(RealtimeTest, UnknownOptionNamesAreErrors) {
   EXPECT_THROW(tone_map_op_from_string("filmic"), Error);
   EXPECT_THROW(shadow_mode_from_string("soft"), Error);

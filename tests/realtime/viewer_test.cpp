@@ -195,9 +195,10 @@ TEST_F(ViewerTest, WithoutDisplayFallsBackToOneHeadlessFrame) {
 TEST_F(ViewerTest, BadOptionsAreRefusedBeforeAnyWindowOrFile) {
   const std::string camera_in_missing_folder = (dir_ / "missing" / "camera.json").string();
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--seconds -1", "--seconds -1 must be a finite number"},
-      {"--seconds nan", "must be a finite number"},
-      {"--frames -3", "--frames -3 must be"},
+      {"--seconds -1", "--seconds: -1 is not in [0, "},
+      {"--seconds nan", "--seconds: 'nan' is not a finite number"},
+      {"--frames -3", "--frames: -3 is not at least 0"},
+      {"--width 0", "--width: 0 is not in [1, 16384]"},
       {"--camera-out " + (dir_ / "camera.txt").string(), "must be a .json file"},
       {"--camera-out " + camera_in_missing_folder, "does not exist"}};
   for (const auto& [option, message] : cases) {

@@ -261,7 +261,11 @@ void GpuImage::upload(const Image& image, uint32_t layer) {
   });
 }
 
-Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask) {
+Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask, uint32_t mip) {
+  ILLUM_CHECK(mip < desc_.mips && layer < desc_.layers,
+              "readback of a level or layer that does not exist");
+  const uint32_t width = std::max(1u, desc_.width >> mip),
+                 height = std::max(1u, desc_.height >> mip);
   if (aspect_mask == 0)
     aspect_mask =
         is_depth_format(desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
@@ -274,7 +278,7 @@ Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask) {
     f = VK_FORMAT_D32_SFLOAT;
   }
   const uint32_t texel = format_bytes(f);
-  const VkDeviceSize bytes = VkDeviceSize(desc_.width) * desc_.height * texel;
+  const VkDeviceSize bytes = VkDeviceSize(width) * height * texel;
   Buffer staging(*context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::kReadback);
   const VkImageLayout previous =
       layout_ == VK_IMAGE_LAYOUT_UNDEFINED ? VK_IMAGE_LAYOUT_GENERAL : layout_;
@@ -282,8 +286,8 @@ Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask) {
     transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy copy{};
-    copy.imageSubresource = {aspect_mask, 0, layer, 1};
-    copy.imageExtent = {desc_.width, desc_.height, 1};
+    copy.imageSubresource = {aspect_mask, mip, layer, 1};
+    copy.imageExtent = {width, height, 1};
     vkCmdCopyImageToBuffer(cmd, image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
                            &copy);
     transition(cmd, previous, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
@@ -294,7 +298,7 @@ Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask) {
   std::vector<uint8_t> raw(bytes);
   staging.read(raw.data(), bytes);
   const int channels = format_channels(f);
-  Image out(static_cast<int>(desc_.width), static_cast<int>(desc_.height), channels);
+  Image out(static_cast<int>(width), static_cast<int>(height), channels);
   float* dst = out.data().data();
   const size_t n = out.pixel_count();
   for (size_t i = 0; i < n; ++i) {

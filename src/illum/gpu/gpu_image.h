@@ -62,9 +62,9 @@ class GpuImage {
   // Fills mip 0 of layer `layer` from `image` (converted to the image's format), builds the
   // remaining mips by blits, and leaves the image SHADER_READ_ONLY.
   void upload(const Image& image, uint32_t layer = 0);
-  // Copies mip 0 of `layer` back into an illum::Image (RGBA or R per the format; depth
-  // gives one channel). Waits for the GPU.
-  Image readback(uint32_t layer = 0, VkImageAspectFlags aspect = 0);
+  // Copies mip level `mip` of `layer` back into an illum::Image (RGBA or R per the format;
+  // depth gives one channel) of that level's size, max(1, side >> mip). Waits for the GPU.
+  Image readback(uint32_t layer = 0, VkImageAspectFlags aspect = 0, uint32_t mip = 0);
 
   void reset();
 

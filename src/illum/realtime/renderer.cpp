@@ -15,6 +15,7 @@
 #include "illum/gpu/vk_check.h"
 #include "illum/realtime/frame_graph.h"
 #include "illum/realtime/gpu_scene.h"
+#include "illum/realtime/renderer_input.h"
 #include "illum/realtime/stencil_shadows.h"
 
 namespace illum::realtime {
@@ -71,16 +72,16 @@ SilhouetteSource silhouette_source_from_string(const std::string& name) {
 
 RendererOptions RendererOptions::from_params(const Params& p) {
   RendererOptions o;
-  o.width = p.get_int_in("width", o.width, 1, 16384);
-  o.height = p.get_int_in("height", o.height, 1, 16384);
+  o.width = p.get<int>("width", o.width);
+  o.height = p.get<int>("height", o.height);
   if (p.has("technique")) o.technique = technique_from_string(p.get<std::string>("technique"));
   if (p.has("shadows")) o.shadows = shadow_mode_from_string(p.get<std::string>("shadows"));
-  o.shadow_resolution = p.get_int_in("shadow_resolution", o.shadow_resolution, 16, 8192);
-  o.shadow_update_period = p.get_int_in("shadow_update_period", o.shadow_update_period, 0, 1000000);
-  o.pcf_taps = p.get_int_in("pcf_taps", o.pcf_taps, 1, 64);
-  o.pcf_radius = p.get_float_in("pcf_radius", o.pcf_radius, 0.0f, 64.0f);
-  o.shadow_bias = p.get_float_in("shadow_bias", o.shadow_bias, 0.0f, 1.0f);
-  o.vsm_tau = p.get_float_in("vsm_tau", o.vsm_tau, 0.0f, 0.99f);
+  o.shadow_resolution = p.get<int>("shadow_resolution", o.shadow_resolution);
+  o.shadow_update_period = p.get<int>("shadow_update_period", o.shadow_update_period);
+  o.pcf_taps = p.get<int>("pcf_taps", o.pcf_taps);
+  o.pcf_radius = p.get<float>("pcf_radius", o.pcf_radius);
+  o.shadow_bias = p.get<float>("shadow_bias", o.shadow_bias);
+  o.vsm_tau = p.get<float>("vsm_tau", o.vsm_tau);
   o.volume_back_faces = p.get<bool>("volume_back_faces", o.volume_back_faces);
   if (p.has("silhouettes"))
     o.silhouettes = silhouette_source_from_string(p.get<std::string>("silhouettes"));
@@ -89,12 +90,18 @@ RendererOptions RendererOptions::from_params(const Params& p) {
   if (p.has("tone_mapper"))
     o.tone_mapper = tone_map_op_from_string(p.get<std::string>("tone_mapper"));
   o.auto_exposure = p.get<bool>("auto_exposure", o.auto_exposure);
-  o.exposure = p.get_float_in("exposure", o.exposure, 0.0f, 1e6f);
-  o.key = p.get_float_in("key", o.key, 1e-4f, 10.0f);
-  o.bloom_strength = p.get_float_in("bloom_strength", o.bloom_strength, 0.0f, 100.0f);
-  o.bloom_threshold = p.get_float_in("bloom_threshold", o.bloom_threshold, 0.0f, 1e6f);
+  o.exposure = p.get<float>("exposure", o.exposure);
+  o.key = p.get<float>("key", o.key);
+  o.bloom_strength = p.get<float>("bloom_strength", o.bloom_strength);
+  o.bloom_threshold = p.get<float>("bloom_threshold", o.bloom_threshold);
   if (p.has("deferred_lighting"))
     o.deferred_lighting = deferred_lighting_from_string(p.get<std::string>("deferred_lighting"));
+  // The ranges live in one place, the check the Renderer runs at its entry too.
+  try {
+    check_renderer_options(o);
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}: {}", p.origin(), e.what()));
+  }
   return o;
 }
 
@@ -189,9 +196,14 @@ std::vector<Light> realtime_lights(const Scene& scene) {
       out.push_back(l);
       continue;
     }
-    if (l.instance < 0 || static_cast<size_t>(l.instance) >= scene.instances.size()) continue;
+    const std::string name = l.name.empty() ? "area light" : fmt::format("area light '{}'", l.name);
+    if (l.instance < 0 || static_cast<size_t>(l.instance) >= scene.instances.size())
+      throw Error(
+          fmt::format("{} refers to instance {} of {}", name, l.instance, scene.instances.size()));
     const Instance& inst = scene.instances[static_cast<size_t>(l.instance)];
-    const Mesh& m = scene.meshes[static_cast<size_t>(inst.mesh)];
+    const Mesh& m = scene.meshes.at(static_cast<size_t>(inst.mesh));
+    if (m.material < 0 || static_cast<size_t>(m.material) >= scene.materials.size())
+      throw Error(fmt::format("{}: its mesh has no material to emit with", name));
     const Material& mat = scene.materials[static_cast<size_t>(m.material)];
     float area = 0.0f;
     vec3 centroid(0.0f), normal(0.0f);
@@ -205,7 +217,10 @@ std::vector<Light> realtime_lights(const Scene& scene) {
       centroid += ta * (a + b + c) / 3.0f;
       normal += n;
     }
-    if (area <= 0.0f || glm::length(normal) <= 0.0f) continue;
+    // A zero-area emitter has no direction to face and no power: bad input, not a light
+    // to drop silently (the offline renderers would not see it either).
+    if (!(area > 0.0f) || !std::isfinite(area) || !(glm::length(normal) > 0.0f))
+      throw Error(fmt::format("{} (instance {}) has zero area", name, l.instance));
     Light spot;
     spot.name = l.name + " (area as Lambertian spot)";
     spot.type = LightType::kSpot;
@@ -567,7 +582,8 @@ struct Renderer::Impl {
     tiles_x = (width + 15) / 16;
     tiles_y = (height + 15) / 16;
     luminance = gpu::Buffer(context, (tiles_x * tiles_y + 1) * sizeof(float),
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kDevice);
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                            gpu::MemoryUsage::kDevice);
     upload_lights();
   }
 
@@ -1396,12 +1412,17 @@ struct Renderer::Impl {
   }
 };
 
-Renderer::Renderer(gpu::Context& context, const Scene& scene, const RendererOptions& options)
-    : impl_(std::make_unique<Impl>(context, scene, options)) {}
+Renderer::Renderer(gpu::Context& context, const Scene& scene, const RendererOptions& options) {
+  // Before anything is uploaded: Impl's members build GPU objects from these values.
+  check_renderer_options(options);
+  check_realtime_input(scene, options);
+  impl_ = std::make_unique<Impl>(context, scene, options);
+}
 
 Renderer::~Renderer() = default;
 
 void Renderer::render(const Camera& camera) {
+  check_camera(camera);
   impl_->render(camera);
 }
 
@@ -1415,6 +1436,26 @@ std::vector<std::string> Renderer::pass_order() const {
 
 Image Renderer::hdr() {
   return impl_->hdr.readback();
+}
+
+float Renderer::log_average_luminance() {
+  Impl& m = *impl_;
+  // luminance_reduce.comp leaves L_avg after the tile partials.
+  const VkDeviceSize offset = VkDeviceSize(m.tiles_x) * m.tiles_y * sizeof(float);
+  gpu::Buffer staging(m.context, sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                      gpu::MemoryUsage::kReadback);
+  m.context.immediate([&](VkCommandBuffer c) {
+    gpu::memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                        VK_ACCESS_2_TRANSFER_READ_BIT);
+    const VkBufferCopy copy{offset, 0, sizeof(float)};
+    vkCmdCopyBuffer(c, m.luminance.handle(), staging.handle(), 1, &copy);
+    gpu::memory_barrier(c, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                        VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  });
+  float value = 0.0f;
+  staging.read(&value, sizeof(value));
+  return value;
 }
 
 gpu::GpuImage& Renderer::output_image() {
@@ -1535,6 +1576,8 @@ void Renderer::set_prt_transfer(const std::vector<glm::vec4>& transfer) {
 }
 
 bool Renderer::set_options(const RendererOptions& o) {
+  check_renderer_options(o);
+  check_single_light(o, impl_->lights.size());
   Impl& m = *impl_;
   const RendererOptions& c = m.options;
   if (o.width != c.width || o.height != c.height || o.technique != c.technique ||
@@ -1552,6 +1595,7 @@ bool Renderer::set_options(const RendererOptions& o) {
 
 void Renderer::update_lights(const std::vector<Light>& lights) {
   ILLUM_CHECK(lights.size() == impl_->lights.size(), "update_lights cannot change the light count");
+  check_realtime_lights(lights);
   impl_->context.wait_idle();
   impl_->lights = lights;
   impl_->upload_lights();

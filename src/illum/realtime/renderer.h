@@ -37,6 +37,10 @@ enum class ToneMapOp : int { kClamp = 0, kReinhard = 1, kAces = 2, kAgx = 3 };
 // ShadowVolumeBuilder on the CPU (the simple reference, uploaded each rebuild).
 enum class SilhouetteSource { kCpu, kGpu };
 
+// δ of the log-average luminance: keeps black pixels from sending the mean log to −∞
+// (shaders/luminance.comp uses the same value).
+inline constexpr float kLogAverageDelta = 1e-4f;
+
 struct RendererOptions {
   int width = 512;
   int height = 512;
@@ -121,6 +125,11 @@ class Renderer {
   std::vector<std::string> pass_order() const;
 
   Image hdr();  // linear radiance, RGBA
+  // The log-average luminance of the last frame's HDR image as the GPU computed it for
+  // auto-exposure, L_avg = exp(mean over pixels of ln(kLogAverageDelta + max(L, 0))) with L
+  // the Rec.709 luminance; the tone mapper then scales by exposure · key / L_avg (Reinhard
+  // et al. 2002). Reads back from the GPU.
+  float log_average_luminance();
   // The 8-bit sRGB-encoded output image (for presenting: blit it to a swapchain image).
   gpu::GpuImage& output_image();
   Image ldr();  // tone-mapped display values (linear, decoded from the sRGB target), RGBA

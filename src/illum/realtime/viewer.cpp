@@ -20,6 +20,7 @@
 #include "illum/core/log.h"
 #include "illum/gpu/buffer.h"
 #include "illum/gpu/vk_check.h"
+#include "illum/realtime/renderer_input.h"
 
 namespace illum::realtime {
 
@@ -468,6 +469,11 @@ std::string camera_json(const Camera& camera) {
 
 bool run_viewer(const Scene& scene, const RendererOptions& initial, const ViewerOptions& viewer,
                 Camera* final_camera, std::string* reason) {
+  // Bad input is refused before a window opens (GLFW would refuse a 0×0 window only as
+  // "no window", and the caller would fall back to headless).
+  check_renderer_options(initial);
+  check_realtime_input(scene, initial);
+  check_camera(scene.camera ? *scene.camera : Camera::framing(scene.bounds()));
   ViewerInput input;  // outlives the window, whose callbacks point at it
   Glfw glfw;
   if (!glfw.ok) {
