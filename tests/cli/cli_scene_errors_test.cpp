@@ -61,6 +61,17 @@ TEST_F(CliSceneErrors, NumberBeyondADouble) {
   EXPECT_FALSE(fs::exists(image));
 }
 
+TEST_F(CliSceneErrors, DeepParamValue) {
+  // 60,000 levels: 120 kB, under the kernel's 128 kB limit for one argument. Params copies
+  // the value recursively, so it must be refused before parsing.
+  const std::string deep = std::string(60000, '[') + std::string(60000, ']');
+  const fs::path image = dir_ / "x.png";
+  const Result r =
+      run("render cornell --integrator ao --spp 1 -p 'radius=" + deep + "' -o " + image.string());
+  expect_bad_input(r, "nested deeper than 128 levels");
+  EXPECT_FALSE(fs::exists(image));
+}
+
 TEST_F(CliSceneErrors, CountsBeyondTheBytes) {
   illum::test::Asset zeros = illum::test::make_asset();
   zeros.json["accessors"][0].erase("bufferView");

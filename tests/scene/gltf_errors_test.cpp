@@ -446,6 +446,11 @@ TEST(GltfErrors, DeclaredCountsBeyondTheDecodeBudget) {
   EXPECT_TRUE(contains(message, path) && contains(message, "meshes[0] 'quad' primitive 0") &&
               contains(message, "the file declares far more data than it holds"))
       << message;
+  // A count near 2⁶⁴ must not wrap the budget arithmetic into a small number.
+  a.json["accessors"][0]["count"] = (uint64_t{1} << 62) + 1;
+  const std::string wrap = test::write_gltf(dir, a, "wrap.gltf");
+  const std::string m2 = error_of([&] { load_scene(wrap); });
+  EXPECT_TRUE(contains(m2, "the file declares far more data than it holds")) << m2;
 }
 
 // Primitives sharing one vertex accessor decode only the vertices their indices use.

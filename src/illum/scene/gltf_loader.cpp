@@ -88,14 +88,15 @@ class GltfReader {
     return fmt::format("{}: {}[{}]{}", path_, list, index, quoted(name));
   }
 
-  // Takes `bytes` from the decode budget before they are allocated.
-  void charge(uint64_t bytes, const std::string& what) {
-    if (bytes > budget_left_)
-      fail(
-          fmt::format("{} would decode to {} bytes, past the decode budget ({} × the {} input "
-                      "bytes + {} MiB): the file declares far more data than it holds",
-                      what, bytes, kDecodeExpansion, input_bytes_, kDecodeAllowanceBytes >> 20));
-    budget_left_ -= bytes;
+  // Takes `count` items of `item_bytes` each from the decode budget before they are
+  // allocated (the product is never formed: a declared count may be near 2⁶⁴).
+  void charge(uint64_t count, uint64_t item_bytes, const std::string& what) {
+    if (count > budget_left_ / item_bytes)
+      fail(fmt::format(
+          "{} would decode {} items of {} bytes, past the decode budget ({} × the {} "
+          "input bytes + {} MiB): the file declares far more data than it holds",
+          what, count, item_bytes, kDecodeExpansion, input_bytes_, kDecodeAllowanceBytes >> 20));
+    budget_left_ -= count * item_bytes;
   }
 
   const tinygltf::Accessor& accessor(int index, const std::string& what) const {
@@ -117,7 +118,7 @@ class GltfReader {
     if (acc.sparse.isSparse)
       fail(fmt::format("{} (accessors[{}]) is sparse, which is not supported", what, index));
     const size_t n = subset != nullptr ? subset->size() : acc.count;
-    charge(static_cast<uint64_t>(n) * want * sizeof(float), what);
+    charge(n, want * sizeof(float), what);
     out.assign(n * static_cast<size_t>(want), 0.0f);
     if (acc.bufferView < 0) return;  // all zeros by the spec
     const unsigned char* base = element_base(acc, index, what);
@@ -139,7 +140,7 @@ class GltfReader {
     if (acc.type != TINYGLTF_TYPE_SCALAR || acc.bufferView < 0)
       fail(fmt::format("{} (accessors[{}]) must be a scalar accessor with a bufferView", what,
                        index));
-    charge(static_cast<uint64_t>(acc.count) * sizeof(uint32_t), what);
+    charge(acc.count, sizeof(uint32_t), what);
     const unsigned char* base = element_base(acc, index, what);
     const size_t stride = element_stride(acc);
     std::vector<uint32_t> out(acc.count);
@@ -427,7 +428,7 @@ class GltfReader {
                                         used.begin());
           }
         } else {
-          charge(static_cast<uint64_t>(count) * sizeof(uint32_t), at + " indices");
+          charge(count, sizeof(uint32_t), at + " indices");
           mesh.indices.resize(count - count % 3);
           for (size_t i = 0; i < mesh.indices.size(); ++i)
             mesh.indices[i] = static_cast<uint32_t>(i);
@@ -596,7 +597,7 @@ class GltfReader {
         inst.name = node.name.empty() ? model_.meshes[node.mesh].name : node.name;
         inst.mesh = m;
         inst.transform = world;
-        charge(sizeof(Instance) + inst.name.size(), at + " instances");
+        charge(1, sizeof(Instance) + inst.name.size(), at + " instances");
         scene_.instances.push_back(inst);
       }
     }
