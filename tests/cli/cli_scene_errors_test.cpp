@@ -27,6 +27,7 @@ class CliSceneErrors : public CliTest {
       EXPECT_NE(info.err.find(also), std::string::npos) << info.err;
     }
     const fs::path image = dir_ / "x.png";
+    fs::remove(image);  // callers loop over files: each run must show its own result
     const Result render =
         run("render " + scene.string() + " --integrator ao --spp 1 -o " + image.string());
     expect_bad_input(render, name);
