@@ -23,7 +23,9 @@ void add_view_command(CLI::App& app);
 
 // Turns repeated `--param key=value` strings into a JSON object: true/false, integers,
 // floats and JSON arrays ("[1,2,3]") keep their type, anything else stays a string.
-// Throws Error for an item without '=', with nothing after it, or with a key given before.
+// Throws Error for an item without '=', with nothing after it, with a key given before, a
+// number a double cannot hold (1e400) and a value starting with '[' that is not a JSON array
+// (nesting bounded as in core/json_input.h).
 nlohmann::json key_values_to_json(const std::vector<std::string>& items);
 
 // Refuses an output path whose folder does not exist or whose extension is not one of the

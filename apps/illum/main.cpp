@@ -9,28 +9,34 @@
 #include "illum/core/error.h"
 #include "illum/core/image.h"
 #include "illum/core/interrupt.h"
+#include "illum/core/json_input.h"
 #include "illum/core/log.h"
 #include "option_checks.h"
 
 namespace illum::cli {
 
 namespace {
-nlohmann::json parse_value(const std::string& text) {
+// `item` is the whole "key=value" for messages. A value that starts like a number but does
+// not fit a double (1e400) or a '[' that is not a JSON array is an error, not a string: the
+// reader would only say "must be a number" without the reason.
+nlohmann::json parse_value(const std::string& text, const std::string& item) {
   if (text == "true") return true;
   if (text == "false") return false;
+  if (!text.empty() && text.front() == '[')
+    return parse_json(text, fmt::format("--param '{}'", item));
+  size_t used = 0;
   try {
-    size_t used = 0;
     const long long i = std::stoll(text, &used);
     if (used == text.size()) return i;
+  } catch (const std::logic_error&) {
+    // not an integer, or too long for one: may still be a double
+  }
+  try {
     const double d = std::stod(text, &used);
     if (used == text.size()) return d;
-  } catch (const std::exception&) {
-  }
-  if (!text.empty() && text.front() == '[') {
-    try {
-      return nlohmann::json::parse(text);
-    } catch (const std::exception&) {
-    }
+  } catch (const std::invalid_argument&) {
+  } catch (const std::out_of_range&) {
+    throw Error(fmt::format("--param '{}': {} is out of range for a number", item, text));
   }
   return text;
 }
@@ -45,7 +51,7 @@ nlohmann::json key_values_to_json(const std::vector<std::string>& items) {
     if (eq + 1 == kv.size()) throw Error(fmt::format("--param '{}' has no value after '='", kv));
     if (j.contains(kv.substr(0, eq)))
       throw Error(fmt::format("--param '{}' is given more than once", kv.substr(0, eq)));
-    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1));
+    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1), kv);
   }
   return j;
 }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gltf_asset.h"
 #include "illum/core/error.h"
 #include "illum/scene/load.h"
 #include "test_util.h"
@@ -295,6 +296,103 @@ TEST(LoadErrors, MalformedGltf) {
   const std::string m4 = error_of([&] { load_scene(glb); });
   EXPECT_TRUE(contains(m4, glb)) << m4;
   expect_one_line(m4);
+}
+
+TEST(LoadErrors, JsonNestingAndNumbersInSceneFiles) {
+  TempDir dir;
+  dir.write("tri.obj", kTriangleObj);
+  // A million levels is refused before any parser (Params copies sub-objects recursively).
+  const int levels = 1000000;
+  const std::string deep =
+      dir.write("deep.illum.json",
+                "{\"description\": " + std::string(levels, '[') + std::string(levels, ']') + "}");
+  const std::string m1 = error_of([&] { load_scene(deep); });
+  EXPECT_TRUE(contains(m1, deep) && contains(m1, "JSON nested deeper than 128 levels")) << m1;
+  expect_one_line(m1);
+  // Brackets inside strings and comments are not nesting.
+  const std::string fine =
+      dir.write("fine.illum.json", "// " + std::string(300, '[') + "\n/* " + std::string(300, '{') +
+                                       " */\n{\"description\": \"" + std::string(300, '[') +
+                                       "\\\" [[\", \"meshes\": [{\"file\": \"tri.obj\"}]}");
+  EXPECT_EQ(load_scene(fine).triangle_count(), 1u);
+  // A number beyond a double used to escape as nlohmann's out_of_range (exit code 1).
+  const std::string big =
+      dir.write("big.illum.json",
+                "{\"meshes\": [{\"file\": \"tri.obj\"}],\n"
+                " \"lights\": [{\"type\": \"point\", \"position\": [0, 1, 0], \"flux\": 1e400}]}");
+  const std::string m2 = error_of([&] { load_scene(big); });
+  EXPECT_TRUE(contains(m2, big) && contains(m2, "number 1e400 is out of range (line 2, column 62)"))
+      << m2;
+  expect_one_line(m2);
+}
+
+// One set of value rules (scene/scene_validation.h) for MTL, glTF and scene files.
+TEST(LoadErrors, SameValueRulesForEveryFormat) {
+  TempDir dir;
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  struct Case {
+    const char* mtl;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"newmtl wood\nKd -0.5 0.4 0.3\n", "material 0 'wood' albedo = (-0.5, 0.4, 0.3) is negative"},
+      {"newmtl wood\nKd 1.5 0.4 0.3\n", "material 0 'wood' albedo = (1.5, 0.4, 0.3) exceeds 1"},
+      {"newmtl wood\nKe -1 0 0\n", "material 0 'wood' emission = (-1, 0, 0) is negative"},
+      {"newmtl wood\nillum 7\nNi 0.5\n", "material 0 'wood' ior = 0.5 is outside [1, 10]"},
+      {"newmtl wood\nKd 0.5 0.5 0.5\nd 1.5\n", "material 0 'wood' opacity = 1.5 is outside [0, 1]"},
+  };
+  const char* names[] = {"m0", "m1", "m2", "m3", "m4"};
+  static_assert(std::size(names) == std::size(cases));
+  for (size_t i = 0; i < std::size(cases); ++i) {
+    const Case& c = cases[i];
+    SCOPED_TRACE(c.mtl);
+    const std::string name = names[i];
+    dir.write(name + ".mtl", c.mtl);
+    const std::string obj =
+        dir.write(name + ".obj", "mtllib " + name + ".mtl\nusemtl wood\n" + tri);
+    const std::string m = error_of([&] { load_scene(obj); });
+    EXPECT_TRUE(contains(m, obj) && contains(m, c.expect)) << m;
+    expect_one_line(m);
+  }
+  // Through a scene file the message names the OBJ, where the value is.
+  const std::string scene = dir.write("s.illum.json", R"({"meshes": [{"file": "m0.obj"}]})");
+  const std::string m1 = error_of([&] { load_scene(scene); });
+  EXPECT_TRUE(contains(m1, dir.file("m0.obj")) && contains(m1, "'wood' albedo")) << m1;
+  // The scene file's own override meets the same bound, under its key.
+  dir.write("tri.obj", kTriangleObj);
+  const std::string bright = dir.write(
+      "b.illum.json",
+      R"({"meshes": [{"file": "tri.obj"}], "materials": {"default": {"albedo": [1.5, 0, 0]}}})");
+  const std::string m2 = error_of([&] { load_scene(bright); });
+  EXPECT_TRUE(contains(m2, bright) &&
+              contains(m2, "'materials.default.albedo' = (1.5, 0, 0) exceeds 1"))
+      << m2;
+}
+
+// A failing load prints nothing before its error (the CLI adds the one line); a successful one
+// logs each warning once.
+TEST(LoadErrors, WarningsReachTheLogOnlyWhenTheLoadSucceeds) {
+  TempDir dir;
+  test::Asset a = test::make_asset();  // its points primitive is skipped with a warning
+  const std::string good = test::write_gltf(dir, a, "good.gltf");
+  ::testing::internal::CaptureStderr();
+  const Scene scene = load_scene(good);
+  const std::string logged = ::testing::internal::GetCapturedStderr();
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_TRUE(contains(logged, scene.warnings[0])) << logged;
+  EXPECT_EQ(logged.find("mode 0"), logged.rfind("mode 0")) << logged;  // once
+  // The same warning, then a fatal error: a zero scale on a node read after the meshes.
+  a.json["nodes"][1]["scale"] = {0, 1, 1};
+  const std::string bad = test::write_gltf(dir, a, "bad.gltf");
+  ::testing::internal::CaptureStderr();
+  const std::string message = error_of([&] { load_scene(bad); });
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_TRUE(contains(message, "singular transform")) << message;
+  // And through a scene file that merges it.
+  const std::string wrapper = dir.write("w.illum.json", R"({"meshes": [{"file": "bad.gltf"}]})");
+  ::testing::internal::CaptureStderr();
+  error_of([&] { load_scene(wrapper); });
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #include "illum/core/params.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
+
+#include "illum/core/json_input.h"
 
 namespace illum {
 
@@ -16,19 +16,8 @@ Params::Params(nlohmann::json object, std::string origin, std::string path) {
 }
 
 Params Params::from_file(const std::string& json_path) {
-  std::ifstream in(json_path);
-  if (!in) throw Error(fmt::format("{}: cannot open file", json_path));
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.what() carries "[json.exception.parse_error.101] parse error at line L, column C: ..."
-    std::string what = e.what();
-    const auto pos = what.find("] ");
-    throw Error(fmt::format("{}: malformed JSON: {}", json_path,
-                            pos == std::string::npos ? what : what.substr(pos + 2)));
-  }
-  return Params(std::move(j), json_path);
+  // Nesting is bounded before parsing: Params copies sub-objects, which recurses per level.
+  return Params(read_json_file(json_path, /*allow_comments=*/true), json_path);
 }
 
 bool Params::has(const std::string& key) const {

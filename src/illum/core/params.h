@@ -25,6 +25,8 @@ class Params {
   // `path` where in it ("lights[2]"); both appear in every error message.
   Params(nlohmann::json object, std::string origin, std::string path = "");
 
+  // Reads a JSON file (comments allowed) through read_json_file (core/json_input.h): nesting
+  // past kMaxJsonDepth, a syntax error or a number beyond a double is an Error naming the file.
   static Params from_file(const std::string& json_path);
 
   bool has(const std::string& key) const;

@@ -2,10 +2,14 @@
 // meshes, metallic-roughness materials map onto illum's material types (mapping below and in
 // docs/scene-format.md), KHR_lights_punctual lights become point/spot/directional lights and
 // the first perspective camera in the node tree becomes Scene::camera.
+//
+// Before tinygltf sees the file, gltf_structure.cpp checks its container, JSON and every
+// size, offset and index against the bytes that exist. Here every number is range-checked
+// after parsing, under its glTF name, with the shared rules of scene_validation.h; decoding
+// is charged against a budget proportional to the input, and the node tree is walked without
+// recursion, so no file can exhaust the stack or the memory.
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <functional>
 #include <map>
 
 #include <tiny_gltf.h>
@@ -13,13 +17,26 @@
 #include <nlohmann/json.hpp>
 
 #include "illum/core/error.h"
-#include "illum/core/log.h"
+#include "illum/scene/gltf_structure.h"
 #include "illum/scene/loaders.h"
 #include "illum/scene/mesh_processing.h"
+#include "illum/scene/scene_validation.h"
 
 namespace illum::detail {
 
 namespace {
+
+using nlohmann::json;
+
+// Decoded geometry (vertex attributes as floats, indices as 32-bit integers, instances) may
+// take at most kDecodeExpansion times the bytes of the input — the file and its buffer files
+// — plus kDecodeAllowanceBytes. Honest files stay well inside: an attribute widens at most
+// 4× (a normalized byte becomes a float), and primitives that share a vertex accessor keep
+// only the vertices their indices use. A file that declares far more than it holds (a huge
+// count on an accessor without bufferView, one accessor read by thousands of primitives, a
+// mesh of many primitives under thousands of nodes) stops with an error instead.
+constexpr uint64_t kDecodeExpansion = 16;
+constexpr uint64_t kDecodeAllowanceBytes = uint64_t{64} << 20;
 
 std::string one_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
@@ -27,58 +44,35 @@ std::string one_line(std::string s) {
   return s;
 }
 
-// Catches what tinygltf reports badly or not at all before handing the file over: malformed
-// JSON (with line and column), a missing "asset", and external buffers that are not there
-// (Sponza without its .bin must fail with "missing buffer", not half-load).
-void precheck_gltf_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(fmt::format("{}: cannot open file", path));
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    std::string what = e.what();
-    const auto pos = what.find("] ");
-    throw Error(fmt::format("{}: malformed glTF JSON: {}", path,
-                            pos == std::string::npos ? what : what.substr(pos + 2)));
-  }
-  if (!j.is_object()) throw Error(fmt::format("{}: glTF top level must be a JSON object", path));
-  if (!j.contains("asset") || !j["asset"].is_object() || !j["asset"].contains("version"))
-    throw Error(fmt::format("{}: glTF is missing the required 'asset.version'", path));
-  if (j.contains("buffers") && j["buffers"].is_array()) {
-    const std::string dir = parent_dir(path);
-    for (size_t i = 0; i < j["buffers"].size(); ++i) {
-      const auto& b = j["buffers"][i];
-      if (!b.is_object()) continue;
-      if (!b.contains("uri") || !b["uri"].is_string())
-        throw Error(fmt::format("{}: buffers[{}] has no 'uri' (only a .glb may omit it)", path, i));
-      const std::string uri = b["uri"].get<std::string>();
-      if (uri.rfind("data:", 0) == 0) continue;
-      if (!file_exists(join_path(dir, uri)))
-        throw Error(
-            fmt::format("{}: missing buffer '{}' (buffers[{}]): file not found", path, uri, i));
-    }
-  }
+std::string quoted(const std::string& name) {
+  return name.empty() ? std::string() : fmt::format(" '{}'", name);
 }
 
-double number(const tinygltf::Value& object, const std::string& key, double fallback) {
-  if (!object.IsObject() || !object.Has(key)) return fallback;
-  const tinygltf::Value& v = object.Get(key);
-  return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+const json* json_child(const json* o, const char* key) {
+  if (o == nullptr || !o->is_object()) return nullptr;
+  const auto it = o->find(key);
+  return it == o->end() ? nullptr : &*it;
 }
 
-const tinygltf::Value* extension(const tinygltf::ExtensionMap& ext, const std::string& name) {
-  auto it = ext.find(name);
-  return it == ext.end() ? nullptr : &it->second;
+const json* json_element(const json* a, size_t i) {
+  return a != nullptr && a->is_array() && i < a->size() ? &(*a)[i] : nullptr;
 }
 
 class GltfReader {
  public:
-  GltfReader(const std::string& path, const tinygltf::Model& model, Scene& scene,
-             const LoadOptions& options)
-      : path_(path), model_(model), scene_(scene), options_(options) {}
+  GltfReader(const std::string& path, const tinygltf::Model& model, const GltfStructure& source,
+             Scene& scene, const LoadOptions& options)
+      : path_(path),
+        model_(model),
+        doc_(source.json),
+        scene_(scene),
+        options_(options),
+        input_bytes_(source.input_bytes),
+        budget_left_(kDecodeExpansion * source.input_bytes + kDecodeAllowanceBytes) {}
 
   void read() {
+    check_cameras();
+    check_lights();
     read_materials();
     read_meshes();
     read_nodes();
@@ -89,42 +83,65 @@ class GltfReader {
     throw Error(fmt::format("{}: {}", path_, what));
   }
 
-  // Reads `count` elements of `want` components each from an accessor as floats, honouring
-  // byte strides and normalized integer types. Indices go through read_indices instead.
-  std::vector<float> read_floats(int accessor_index, int want, const char* what) const {
-    if (accessor_index < 0 || static_cast<size_t>(accessor_index) >= model_.accessors.size())
-      fail(fmt::format("{} refers to accessor {}, which does not exist", what, accessor_index));
-    const tinygltf::Accessor& acc = model_.accessors[accessor_index];
+  // "x.gltf: materials[2] 'Glass'": the prefix of the shared value checks' messages.
+  std::string where(const char* list, size_t index, const std::string& name) const {
+    return fmt::format("{}: {}[{}]{}", path_, list, index, quoted(name));
+  }
+
+  // Takes `count` items of `item_bytes` each from the decode budget before they are
+  // allocated (the product is never formed: a declared count may be near 2⁶⁴).
+  void charge(uint64_t count, uint64_t item_bytes, const std::string& what) {
+    if (count > budget_left_ / item_bytes)
+      fail(fmt::format(
+          "{} would decode {} items of {} bytes, past the decode budget ({} × the {} "
+          "input bytes + {} MiB): the file declares far more data than it holds",
+          what, count, item_bytes, kDecodeExpansion, input_bytes_, kDecodeAllowanceBytes >> 20));
+    budget_left_ -= count * item_bytes;
+  }
+
+  const tinygltf::Accessor& accessor(int index, const std::string& what) const {
+    if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
+      fail(fmt::format("{} refers to accessor {}, which does not exist", what, index));
+    return model_.accessors[index];
+  }
+
+  // Decodes `want` floats per element of accessor `index` into `out`, for the elements listed
+  // in `subset` (all of them when it is null), honouring byte strides and normalized integer
+  // types. Indices go through read_indices instead.
+  void read_attribute(int index, int want, const std::string& what,
+                      const std::vector<uint32_t>* subset, std::vector<float>& out) {
+    const tinygltf::Accessor& acc = accessor(index, what);
     const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type));
     if (comps != want)
-      fail(fmt::format("accessors[{}] ({}) has {} components, expected {}", accessor_index, what,
-                       comps, want));
+      fail(fmt::format("{} (accessors[{}]) has {} components, expected {}", what, index, comps,
+                       want));
     if (acc.sparse.isSparse)
-      fail(fmt::format("accessors[{}] ({}) is sparse, which is not supported", accessor_index,
-                       what));
-    std::vector<float> out(acc.count * static_cast<size_t>(want), 0.0f);
-    if (acc.bufferView < 0) return out;  // all zeros by the spec
-    const unsigned char* base = element_base(acc, accessor_index, what);
+      fail(fmt::format("{} (accessors[{}]) is sparse, which is not supported", what, index));
+    const size_t n = subset != nullptr ? subset->size() : acc.count;
+    charge(n, want * sizeof(float), what);
+    out.assign(n * static_cast<size_t>(want), 0.0f);
+    if (acc.bufferView < 0) return;  // all zeros by the spec
+    const unsigned char* base = element_base(acc, index, what);
     const size_t csize = static_cast<size_t>(
         tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType)));
     const size_t stride = element_stride(acc);
-    for (size_t e = 0; e < acc.count; ++e) {
+    for (size_t k = 0; k < n; ++k) {
+      const size_t e = subset != nullptr ? (*subset)[k] : k;
       const unsigned char* p = base + e * stride;
       for (int c = 0; c < want; ++c) {
-        out[e * want + c] = component(p + c * csize, acc.componentType, acc.normalized);
+        out[k * want + c] = component(p + c * csize, acc.componentType, acc.normalized);
       }
     }
-    return out;
   }
 
-  std::vector<uint32_t> read_indices(int accessor_index) const {
-    if (accessor_index < 0 || static_cast<size_t>(accessor_index) >= model_.accessors.size())
-      fail(fmt::format("indices refer to accessor {}, which does not exist", accessor_index));
-    const tinygltf::Accessor& acc = model_.accessors[accessor_index];
+  // The indices of accessor `index`, each checked against the `vertex_count` they index.
+  std::vector<uint32_t> read_indices(int index, size_t vertex_count, const std::string& what) {
+    const tinygltf::Accessor& acc = accessor(index, what);
     if (acc.type != TINYGLTF_TYPE_SCALAR || acc.bufferView < 0)
-      fail(fmt::format("accessors[{}] (indices) must be a scalar accessor with a bufferView",
-                       accessor_index));
-    const unsigned char* base = element_base(acc, accessor_index, "indices");
+      fail(fmt::format("{} (accessors[{}]) must be a scalar accessor with a bufferView", what,
+                       index));
+    charge(acc.count, sizeof(uint32_t), what);
+    const unsigned char* base = element_base(acc, index, what);
     const size_t stride = element_stride(acc);
     std::vector<uint32_t> out(acc.count);
     for (size_t e = 0; e < acc.count; ++e) {
@@ -143,9 +160,12 @@ class GltfReader {
           std::memcpy(&out[e], p, 4);
           break;
         default:
-          fail(fmt::format("accessors[{}] (indices) has component type {}, not an unsigned integer",
-                           accessor_index, acc.componentType));
+          fail(fmt::format("{} (accessors[{}]) has component type {}, not an unsigned integer",
+                           what, index, acc.componentType));
       }
+      if (out[e] >= vertex_count)
+        fail(fmt::format("{} (accessors[{}]) entry {} is vertex {}, past the {} vertices", what,
+                         index, e, out[e], vertex_count));
     }
     return out;
   }
@@ -155,12 +175,13 @@ class GltfReader {
     return stride > 0 ? static_cast<size_t>(stride) : 0;
   }
 
-  // Start of the accessor's data, after checking that all of it lies inside its buffer.
+  // Start of the accessor's data, after checking (again: gltf_structure.cpp did it on the
+  // JSON) that all of it lies inside its view and the buffer tinygltf loaded.
   const unsigned char* element_base(const tinygltf::Accessor& acc, int index,
-                                    const char* what) const {
+                                    const std::string& what) const {
     if (static_cast<size_t>(acc.bufferView) >= model_.bufferViews.size())
-      fail(fmt::format("accessors[{}] ({}) refers to bufferView {}, which does not exist", index,
-                       what, acc.bufferView));
+      fail(fmt::format("{} (accessors[{}]) refers to bufferView {}, which does not exist", what,
+                       index, acc.bufferView));
     const tinygltf::BufferView& view = model_.bufferViews[acc.bufferView];
     if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model_.buffers.size())
       fail(fmt::format("bufferViews[{}] refers to buffer {}, which does not exist", acc.bufferView,
@@ -168,16 +189,18 @@ class GltfReader {
     const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
     const int stride = acc.ByteStride(view);
     if (stride <= 0)
-      fail(fmt::format("accessors[{}] ({}) has an invalid type or byte stride", index, what));
+      fail(fmt::format("{} (accessors[{}]) has an invalid type or byte stride", what, index));
     const size_t elem =
         static_cast<size_t>(
             tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType))) *
         static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type)));
+    const size_t view_end = std::min(view.byteOffset + view.byteLength, buffer.data.size());
     const size_t start = view.byteOffset + acc.byteOffset;
-    const size_t end = acc.count == 0 ? start : start + (acc.count - 1) * stride + elem;
-    if (end > view.byteOffset + view.byteLength || end > buffer.data.size())
-      fail(fmt::format("accessors[{}] ({}) reads past the end of buffer {} ({} > {} bytes)", index,
-                       what, view.buffer, end, buffer.data.size()));
+    const bool fits = acc.count > 0 && start <= view_end && elem <= view_end - start &&
+                      acc.count - 1 <= (view_end - start - elem) / static_cast<size_t>(stride);
+    if (!fits)
+      fail(fmt::format("{} (accessors[{}]) reads past the end of bufferViews[{}]", what, index,
+                       acc.bufferView));
     return buffer.data.data() + start;
   }
 
@@ -267,32 +290,40 @@ class GltfReader {
   }
 
   void read_materials() {
-    for (const tinygltf::Material& gm : model_.materials) {
+    for (size_t i = 0; i < model_.materials.size(); ++i) {
+      const tinygltf::Material& gm = model_.materials[i];
+      const std::string at = where("materials", i, gm.name);
       Material m;
       m.name = gm.name;
       const auto& pbr = gm.pbrMetallicRoughness;
-      Color base(1.0f);
-      if (pbr.baseColorFactor.size() == 4) {
-        base = Color(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]);
-        m.opacity = static_cast<float>(pbr.baseColorFactor[3]);
-      }
+      const std::vector<double> base_factor = pbr.baseColorFactor;
+      if (base_factor.size() != 4)
+        throw Error(
+            fmt::format("{} baseColorFactor has {} numbers, not 4", at, base_factor.size()));
+      const Color base = factor_color(base_factor, at + " baseColorFactor");
+      m.opacity = factor(base_factor[3], at + " baseColorFactor alpha");
       m.albedo = base;
       m.albedo_texture = texture(pbr.baseColorTexture.index, true, m.name);
-      const float metallic = static_cast<float>(pbr.metallicFactor);
-      m.roughness = std::clamp(static_cast<float>(pbr.roughnessFactor), 0.0f, 1.0f);
+      const float metallic = factor(pbr.metallicFactor, at + " metallicFactor");
+      m.roughness = factor(pbr.roughnessFactor, at + " roughnessFactor");
       m.roughness_texture = texture(pbr.metallicRoughnessTexture.index, false, m.name);
       m.normal_texture = texture(gm.normalTexture.index, false, m.name);
-      m.normal_scale = static_cast<float>(gm.normalTexture.scale);
-      if (gm.emissiveFactor.size() == 3)
-        m.emission = Color(gm.emissiveFactor[0], gm.emissiveFactor[1], gm.emissiveFactor[2]);
+      m.normal_scale = checked_float(gm.normalTexture.scale, at + " normalTexture.scale");
+      if (gm.emissiveFactor.size() != 3)
+        throw Error(
+            fmt::format("{} emissiveFactor has {} numbers, not 3", at, gm.emissiveFactor.size()));
+      m.emission = factor_color(gm.emissiveFactor, at + " emissiveFactor");
       m.emission_texture = texture(gm.emissiveTexture.index, true, m.name);
-      if (const auto* e = extension(gm.extensions, "KHR_materials_emissive_strength"))
-        m.emission *= static_cast<float>(number(*e, "emissiveStrength", 1.0));
-      if (const auto* e = extension(gm.extensions, "KHR_materials_ior"))
-        m.ior = static_cast<float>(number(*e, "ior", 1.5));
-      float transmission = 0.0f;
-      if (const auto* e = extension(gm.extensions, "KHR_materials_transmission"))
-        transmission = static_cast<float>(number(*e, "transmissionFactor", 0.0));
+      m.emission *= checked_non_negative(
+          extension_number(i, "KHR_materials_emissive_strength", "emissiveStrength", 1.0, at),
+          at + " KHR_materials_emissive_strength.emissiveStrength");
+      check_color(m.emission, at + " emission (emissiveFactor × emissiveStrength)");
+      const double ior = extension_number(i, "KHR_materials_ior", "ior", 1.5, at);
+      check_in_range(ior, 1.0, kMaxIor, at + " KHR_materials_ior.ior");
+      m.ior = static_cast<float>(ior);
+      const float transmission =
+          factor(extension_number(i, "KHR_materials_transmission", "transmissionFactor", 0.0, at),
+                 at + " KHR_materials_transmission.transmissionFactor");
 
       if (transmission >= 0.5f) {
         m.type = MaterialType::kDielectric;
@@ -310,8 +341,31 @@ class GltfReader {
         const float alpha = std::max(m.roughness * m.roughness, 1e-3f);
         m.exponent = std::min(2.0f / (alpha * alpha) - 2.0f, 1e4f);
       }
+      validate_material(m, at, scene_.textures.size());
       scene_.materials.push_back(m);
     }
+  }
+
+  // A glTF factor: a number in [0, 1].
+  static float factor(double v, const std::string& what) {
+    check_in_range(v, 0.0, 1.0, what);
+    return static_cast<float>(v);
+  }
+  static Color factor_color(const std::vector<double>& v, const std::string& what) {
+    return Color(factor(v[0], what), factor(v[1], what), factor(v[2], what));
+  }
+
+  // A number inside extension `name` of materials[i], read from our own parse of the JSON
+  // (tinygltf keeps extension numbers as int or double values and truncates large integers).
+  double extension_number(size_t material, const char* name, const char* key, double fallback,
+                          const std::string& at) const {
+    const json* value = json_child(
+        json_child(json_child(json_element(json_child(&doc_, "materials"), material), "extensions"),
+                   name),
+        key);
+    if (value == nullptr) return fallback;
+    if (!value->is_number()) throw Error(fmt::format("{} {}.{} must be a number", at, name, key));
+    return value->get<double>();
   }
 
   // Gulbrandsen 2014, "Artist Friendly Metallic Fresnel": the complex index whose normal
@@ -336,8 +390,7 @@ class GltfReader {
       const tinygltf::Mesh& gmesh = model_.meshes[mi];
       for (size_t pi = 0; pi < gmesh.primitives.size(); ++pi) {
         const tinygltf::Primitive& prim = gmesh.primitives[pi];
-        const std::string name =
-            gmesh.primitives.size() > 1 ? fmt::format("{}/{}", gmesh.name, pi) : gmesh.name;
+        const std::string at = fmt::format("meshes[{}]{} primitive {}", mi, quoted(gmesh.name), pi);
         if (prim.mode != TINYGLTF_MODE_TRIANGLES) {
           add_warning(scene_, fmt::format("{}: mesh '{}' primitive {} has mode {} (only "
                                           "triangles are supported); skipped",
@@ -348,57 +401,74 @@ class GltfReader {
           auto it = prim.attributes.find(key);
           return it == prim.attributes.end() ? -1 : it->second;
         };
-        if (attr("POSITION") < 0)
-          fail(fmt::format("mesh '{}' primitive {} has no POSITION attribute", gmesh.name, pi));
+        if (attr("POSITION") < 0) fail(fmt::format("{} has no POSITION attribute", at));
+        const size_t count = accessor(attr("POSITION"), at + " POSITION").count;
+        for (const char* key : {"NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1"}) {
+          if (attr(key) >= 0 && accessor(attr(key), at + " " + key).count != count)
+            fail(fmt::format("{}: {} has {} elements for {} positions", at, key,
+                             accessor(attr(key), at).count, count));
+        }
+
         Mesh mesh;
-        mesh.name = name;
-        const auto pos = read_floats(attr("POSITION"), 3, "POSITION");
-        for (size_t i = 0; i + 2 < pos.size(); i += 3)
-          mesh.positions.emplace_back(pos[i], pos[i + 1], pos[i + 2]);
-        const size_t nv = mesh.positions.size();
-        auto check_count = [&](const std::vector<float>& v, int comps, const char* what) {
-          if (v.size() != nv * comps)
-            fail(fmt::format("mesh '{}' primitive {}: {} has {} elements for {} positions",
-                             gmesh.name, pi, what, v.size() / comps, nv));
-        };
-        if (attr("NORMAL") >= 0) {
-          const auto n = read_floats(attr("NORMAL"), 3, "NORMAL");
-          check_count(n, 3, "NORMAL");
-          for (size_t i = 0; i < nv; ++i)
-            mesh.normals.emplace_back(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
-        }
-        if (attr("TANGENT") >= 0) {
-          const auto t = read_floats(attr("TANGENT"), 4, "TANGENT");
-          check_count(t, 4, "TANGENT");
-          for (size_t i = 0; i < nv; ++i)
-            mesh.tangents.emplace_back(t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]);
-        }
-        if (attr("TEXCOORD_0") >= 0) {
-          const auto t = read_floats(attr("TEXCOORD_0"), 2, "TEXCOORD_0");
-          check_count(t, 2, "TEXCOORD_0");
-          for (size_t i = 0; i < nv; ++i) mesh.uv0.emplace_back(t[2 * i], t[2 * i + 1]);
-        }
-        if (attr("TEXCOORD_1") >= 0) {
-          const auto t = read_floats(attr("TEXCOORD_1"), 2, "TEXCOORD_1");
-          check_count(t, 2, "TEXCOORD_1");
-          for (size_t i = 0; i < nv; ++i) mesh.uv1.emplace_back(t[2 * i], t[2 * i + 1]);
-        }
+        mesh.name = gmesh.primitives.size() > 1 ? fmt::format("{}/{}", gmesh.name, pi) : gmesh.name;
+        // With indices, only the vertices they use are decoded, renumbered in their original
+        // order: primitives that share one large vertex accessor (one per material is a common
+        // export) then cost what they use, not the whole accessor each.
+        std::vector<uint32_t> used;
+        bool compact = false;
         if (prim.indices >= 0) {
-          mesh.indices = read_indices(prim.indices);
+          mesh.indices = read_indices(prim.indices, count, at + " indices");
+          used = mesh.indices;
+          std::sort(used.begin(), used.end());
+          used.erase(std::unique(used.begin(), used.end()), used.end());
+          compact = used.size() < count;
+          if (compact) {
+            for (uint32_t& i : mesh.indices)
+              i = static_cast<uint32_t>(std::lower_bound(used.begin(), used.end(), i) -
+                                        used.begin());
+          }
         } else {
-          mesh.indices.resize(nv - nv % 3);
+          charge(count, sizeof(uint32_t), at + " indices");
+          mesh.indices.resize(count - count % 3);
           for (size_t i = 0; i < mesh.indices.size(); ++i)
             mesh.indices[i] = static_cast<uint32_t>(i);
         }
+        const std::vector<uint32_t>* subset = compact ? &used : nullptr;
+        std::vector<float> values;
+        read_attribute(attr("POSITION"), 3, at + " POSITION", subset, values);
+        mesh.positions = to_vectors<vec3>(values);
+        if (attr("NORMAL") >= 0) {
+          read_attribute(attr("NORMAL"), 3, at + " NORMAL", subset, values);
+          mesh.normals = to_vectors<vec3>(values);
+        }
+        if (attr("TANGENT") >= 0) {
+          read_attribute(attr("TANGENT"), 4, at + " TANGENT", subset, values);
+          mesh.tangents = to_vectors<vec4>(values);
+        }
+        if (attr("TEXCOORD_0") >= 0) {
+          read_attribute(attr("TEXCOORD_0"), 2, at + " TEXCOORD_0", subset, values);
+          mesh.uv0 = to_vectors<vec2>(values);
+        }
+        if (attr("TEXCOORD_1") >= 0) {
+          read_attribute(attr("TEXCOORD_1"), 2, at + " TEXCOORD_1", subset, values);
+          mesh.uv1 = to_vectors<vec2>(values);
+        }
         if (prim.material >= 0 && static_cast<size_t>(prim.material) >= model_.materials.size())
-          fail(fmt::format("mesh '{}' primitive {} refers to material {}, which does not exist",
-                           gmesh.name, pi, prim.material));
+          fail(fmt::format("{} refers to material {}, which does not exist", at, prim.material));
         mesh.material = prim.material >= 0 ? prim.material : default_material();
         validate_mesh(mesh, path_, scene_.materials.size());
         mesh_primitives_[mi].push_back(static_cast<int>(scene_.meshes.size()));
         scene_.meshes.push_back(std::move(mesh));
       }
     }
+  }
+
+  template <typename V>
+  static std::vector<V> to_vectors(const std::vector<float>& values) {
+    constexpr size_t n = V::length();
+    std::vector<V> out(values.size() / n);
+    std::memcpy(out.data(), values.data(), out.size() * sizeof(V));
+    return out;
   }
 
   int default_material() {
@@ -412,35 +482,58 @@ class GltfReader {
     return default_material_;
   }
 
-  static mat4 local_transform(const tinygltf::Node& node) {
-    if (node.matrix.size() == 16) {
+  // The node's local transform: `matrix`, or T·R·S. Every number must be a finite float; a
+  // rotation is normalized (writers round it), but a zero quaternion is an error.
+  mat4 local_transform(const tinygltf::Node& node, const std::string& at) const {
+    auto numbers = [&](const std::vector<double>& v, size_t n, const char* name) {
+      if (v.size() != n)
+        throw Error(fmt::format("{} {} has {} numbers, not {}", at, name, v.size(), n));
+      std::vector<float> out(n);
+      for (size_t i = 0; i < n; ++i) out[i] = checked_float(v[i], fmt::format("{} {}", at, name));
+      return out;
+    };
+    const bool trs = !node.translation.empty() || !node.rotation.empty() || !node.scale.empty();
+    if (!node.matrix.empty()) {
+      if (trs) throw Error(fmt::format("{} has both a matrix and translation/rotation/scale", at));
+      const auto v = numbers(node.matrix, 16, "matrix");
       mat4 m;
       for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) m[c][r] = static_cast<float>(node.matrix[4 * c + r]);
+        for (int r = 0; r < 4; ++r) m[c][r] = v[4 * c + r];
       return m;
     }
     mat4 m(1.0f);
-    if (node.translation.size() == 3)
-      m = glm::translate(m, vec3(node.translation[0], node.translation[1], node.translation[2]));
-    if (node.rotation.size() == 4) {
-      // glTF stores the quaternion as (x, y, z, w).
-      const glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
-                        static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
-      m = m * glm::mat4_cast(q);
+    if (!node.translation.empty()) {
+      const auto t = numbers(node.translation, 3, "translation");
+      m = glm::translate(m, vec3(t[0], t[1], t[2]));
     }
-    if (node.scale.size() == 3)
-      m = glm::scale(m, vec3(node.scale[0], node.scale[1], node.scale[2]));
+    if (!node.rotation.empty()) {
+      // glTF stores the quaternion as (x, y, z, w).
+      const auto q = numbers(node.rotation, 4, "rotation");
+      const glm::quat rotation(q[3], q[0], q[1], q[2]);
+      const float length = glm::length(rotation);
+      if (!(length > 0.0f) || !std::isfinite(length))
+        throw Error(fmt::format("{} rotation is not a usable quaternion", at));
+      m = m * glm::mat4_cast(rotation / length);
+    }
+    if (!node.scale.empty()) {
+      const auto s = numbers(node.scale, 3, "scale");
+      m = glm::scale(m, vec3(s[0], s[1], s[2]));
+    }
     return m;
   }
 
+  // Walks the default scene's trees (or every root when there is no scene) depth-first with
+  // an explicit stack, so a chain of a million nodes costs heap, not stack. glTF node
+  // hierarchies are disjoint trees: a node met twice (a cycle, two parents, or listed twice
+  // as a root) is an error, which also keeps a small file from expanding exponentially.
   void read_nodes() {
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
-      const int s = model_.defaultScene >= 0 &&
-                            static_cast<size_t>(model_.defaultScene) < model_.scenes.size()
-                        ? model_.defaultScene
-                        : 0;
-      roots = model_.scenes[s].nodes;
+      if (model_.defaultScene >= 0 &&
+          static_cast<size_t>(model_.defaultScene) >= model_.scenes.size())
+        fail(fmt::format("scene = {}, but the file has {} scenes", model_.defaultScene,
+                         model_.scenes.size()));
+      roots = model_.scenes[std::max(model_.defaultScene, 0)].nodes;
     } else {
       // No scene: every node that is nobody's child is a root.
       std::vector<bool> is_child(model_.nodes.size(), false);
@@ -450,17 +543,52 @@ class GltfReader {
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!is_child[i]) roots.push_back(static_cast<int>(i));
     }
-    std::vector<bool> visiting(model_.nodes.size(), false);
-    for (int r : roots) visit(r, mat4(1.0f), visiting);
+    enum : uint8_t { kUnseen, kOnPath, kDone };
+    std::vector<uint8_t> state(model_.nodes.size(), kUnseen);
+    struct Frame {
+      int node;
+      mat4 world;
+      size_t next_child;
+    };
+    std::vector<Frame> stack;
+    auto enter = [&](int index, const mat4& parent, const char* via) {
+      if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
+        fail(fmt::format("{} node {} does not exist", via, index));
+      if (state[index] == kOnPath) fail(fmt::format("node {} is its own ancestor (cycle)", index));
+      if (state[index] == kDone)
+        fail(
+            fmt::format("node {} is reached twice (two parents, or listed twice); glTF node "
+                        "hierarchies must be disjoint trees",
+                        index));
+      state[index] = kOnPath;
+      const tinygltf::Node& node = model_.nodes[index];
+      const mat4 world = parent * local_transform(node, where("nodes", index, node.name));
+      visit(index, world);
+      stack.push_back({index, world, 0});
+    };
+    for (int r : roots) {
+      enter(r, mat4(1.0f), "the scene's root");
+      while (!stack.empty()) {
+        Frame& top = stack.back();
+        const std::vector<int>& children = model_.nodes[top.node].children;
+        if (top.next_child < children.size()) {
+          const int child = children[top.next_child++];
+          const mat4 world = top.world;  // `top` dangles once enter() grows the stack
+          enter(child, world, "a child");
+        } else {
+          state[top.node] = kDone;
+          stack.pop_back();
+        }
+      }
+    }
   }
 
-  void visit(int index, const mat4& parent, std::vector<bool>& visiting) {
-    if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
-      fail(fmt::format("node {} does not exist", index));
-    if (visiting[index]) fail(fmt::format("node {} is its own ancestor (cycle)", index));
-    visiting[index] = true;
+  // What one node adds: an instance per primitive of its mesh, the camera, a light.
+  void visit(int index, const mat4& world) {
     const tinygltf::Node& node = model_.nodes[index];
-    const mat4 world = parent * local_transform(node);
+    const std::string at = where("nodes", index, node.name);
+    const bool has_light = node.extensions.count("KHR_lights_punctual") > 0;
+    if (node.mesh >= 0 || node.camera >= 0 || has_light) check_transform(world, at);
     if (node.mesh >= 0) {
       if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
         fail(fmt::format("node {} refers to mesh {}, which does not exist", index, node.mesh));
@@ -469,6 +597,7 @@ class GltfReader {
         inst.name = node.name.empty() ? model_.meshes[node.mesh].name : node.name;
         inst.mesh = m;
         inst.transform = world;
+        charge(1, sizeof(Instance) + inst.name.size(), at + " instances");
         scene_.instances.push_back(inst);
       }
     }
@@ -484,33 +613,101 @@ class GltfReader {
         c.look_at = origin + forward;
         c.up = glm::normalize(mat3(world) * vec3(0, 1, 0));
         c.fov_y = static_cast<float>(cam.perspective.yfov);
-        if (!(c.fov_y > 0.0f && c.fov_y < kPi))
-          fail(fmt::format("cameras[{}] has yfov {} outside (0, π)", node.camera, c.fov_y));
+        validate_camera(c, at + " camera");
         scene_.camera = c;
       }
     }
-    if (const auto* e = extension(node.extensions, "KHR_lights_punctual")) {
-      const int li = static_cast<int>(number(*e, "light", -1));
+    if (has_light) {
+      const json* light = json_child(
+          json_child(json_child(json_element(json_child(&doc_, "nodes"), index), "extensions"),
+                     "KHR_lights_punctual"),
+          "light");
+      const int li = light != nullptr && light->is_number_unsigned() ? light->get<int>() : -1;
       if (li < 0 || static_cast<size_t>(li) >= model_.lights.size())
         fail(fmt::format("node {} refers to light {}, which does not exist", index, li));
       add_light(model_.lights[li], li, origin, forward);
     }
-    for (int c : node.children) visit(c, world, visiting);
-    visiting[index] = false;
+  }
+
+  // Every camera in the list, used or not, against glTF's rules: perspective yfov in (0, π),
+  // znear > 0, zfar (when given) > znear, aspectRatio (when given) > 0; orthographic xmag and
+  // ymag non-zero, znear ≥ 0, zfar > znear.
+  void check_cameras() const {
+    const json* list = json_child(&doc_, "cameras");
+    for (size_t i = 0; i < model_.cameras.size(); ++i) {
+      const tinygltf::Camera& cam = model_.cameras[i];
+      const std::string at = where("cameras", i, cam.name);
+      const json* raw = json_child(json_element(list, i), cam.type.c_str());
+      if (cam.type == "perspective") {
+        const auto& p = cam.perspective;
+        const float yfov = checked_float(p.yfov, at + " yfov");
+        if (!(yfov > 0.0f && yfov < kPi))
+          throw Error(fmt::format("{} yfov = {} is outside (0, π)", at, yfov));
+        if (!(checked_float(p.znear, at + " znear") > 0.0f))
+          throw Error(fmt::format("{} znear = {} must be positive", at, p.znear));
+        if (json_child(raw, "zfar") != nullptr && !(checked_float(p.zfar, at + " zfar") > p.znear))
+          throw Error(fmt::format("{} zfar = {} must exceed znear = {}", at, p.zfar, p.znear));
+        if (json_child(raw, "aspectRatio") != nullptr &&
+            !(checked_float(p.aspectRatio, at + " aspectRatio") > 0.0f))
+          throw Error(fmt::format("{} aspectRatio = {} must be positive", at, p.aspectRatio));
+      } else if (cam.type == "orthographic") {
+        const auto& o = cam.orthographic;
+        if (checked_float(o.xmag, at + " xmag") == 0.0f ||
+            checked_float(o.ymag, at + " ymag") == 0.0f)
+          throw Error(fmt::format("{} xmag and ymag must not be zero", at));
+        if (!(checked_float(o.znear, at + " znear") >= 0.0f) ||
+            !(checked_float(o.zfar, at + " zfar") > o.znear))
+          throw Error(fmt::format("{} needs 0 ≤ znear < zfar (znear = {}, zfar = {})", at, o.znear,
+                                  o.zfar));
+      } else {
+        throw Error(
+            fmt::format("{} type '{}' is neither perspective nor orthographic", at, cam.type));
+      }
+    }
+  }
+
+  // Every KHR_lights_punctual light against the extension's rules: a known type, colour
+  // components in [0, 1], intensity ≥ 0, range (when given) > 0, spot cone angles
+  // 0 ≤ inner ≤ outer ≤ π/2 with outer > 0.
+  void check_lights() const {
+    const json* list =
+        json_child(json_child(json_child(&doc_, "extensions"), "KHR_lights_punctual"), "lights");
+    for (size_t i = 0; i < model_.lights.size(); ++i) {
+      const tinygltf::Light& gl = model_.lights[i];
+      const std::string at = where("KHR_lights_punctual lights", i, gl.name);
+      if (gl.type != "point" && gl.type != "spot" && gl.type != "directional")
+        throw Error(fmt::format("{} type '{}' is not point, spot or directional", at, gl.type));
+      if (!gl.color.empty()) {
+        if (gl.color.size() != 3)
+          throw Error(fmt::format("{} color has {} numbers, not 3", at, gl.color.size()));
+        factor_color(gl.color, at + " color");
+      }
+      checked_non_negative(gl.intensity, at + " intensity");
+      if (json_child(json_element(list, i), "range") != nullptr &&
+          !(checked_float(gl.range, at + " range") > 0.0f))
+        throw Error(fmt::format("{} range = {} must be positive", at, gl.range));
+      if (gl.type == "spot") {
+        const float inner = checked_float(gl.spot.innerConeAngle, at + " spot.innerConeAngle");
+        const float outer = checked_float(gl.spot.outerConeAngle, at + " spot.outerConeAngle");
+        if (!(outer > 0.0f && outer <= 0.5f * kPi))
+          throw Error(fmt::format("{} spot.outerConeAngle = {} is outside (0, π/2]", at, outer));
+        if (!(inner >= 0.0f && inner <= outer))
+          throw Error(
+              fmt::format("{} spot.innerConeAngle = {} is outside [0, outerConeAngle]", at, inner));
+      }
+    }
   }
 
   // glTF intensities are photometric (cd for point/spot, lux for directional); illum reads
   // the numbers as radiometric: W/sr for point/spot, W/m² for directional. The spot's outer
-  // cone angle is its hard edge (the inner angle's smooth falloff is not modelled).
+  // cone angle is its hard edge (the inner angle's smooth falloff is not modelled). The
+  // values were checked by check_lights.
   void add_light(const tinygltf::Light& gl, int index, const vec3& position, const vec3& forward) {
     Light light;
     light.name = gl.name.empty() ? fmt::format("light{}", index) : gl.name;
     Color color(1.0f);
     if (gl.color.size() == 3) color = Color(gl.color[0], gl.color[1], gl.color[2]);
     const float intensity = static_cast<float>(gl.intensity);
-    if (intensity < 0.0f || !std::isfinite(intensity))
-      fail(fmt::format("KHR_lights_punctual light {} has a negative or non-finite intensity",
-                       index));
     light.position = position;
     light.direction = forward;
     light.range = static_cast<float>(gl.range);
@@ -521,24 +718,22 @@ class GltfReader {
       light.type = LightType::kSpot;
       light.intensity = intensity * color;
       light.cone_half_angle = static_cast<float>(gl.spot.outerConeAngle);
-      if (!(light.cone_half_angle > 0.0f && light.cone_half_angle <= 0.5f * kPi))
-        fail(fmt::format("KHR_lights_punctual light {} has outerConeAngle {} outside (0, π/2]",
-                         index, light.cone_half_angle));
-    } else if (gl.type == "directional") {
+    } else {
       light.type = LightType::kDirectional;
       light.irradiance = intensity * color;
-    } else {
-      add_warning(scene_, fmt::format("{}: light {} has unknown type '{}'; skipped", path_, index,
-                                      gl.type));
-      return;
     }
+    validate_light(light, where("KHR_lights_punctual lights", index, gl.name),
+                   scene_.instances.size(), false);
     scene_.lights.push_back(light);
   }
 
   const std::string& path_;
   const tinygltf::Model& model_;
+  const json& doc_;
   Scene& scene_;
   const LoadOptions& options_;
+  const uint64_t input_bytes_;
+  uint64_t budget_left_;
   std::map<std::pair<int, bool>, int> textures_;
   std::vector<std::vector<int>> mesh_primitives_;  // glTF mesh → illum meshes
   int default_material_ = -1;
@@ -554,7 +749,7 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
 Scene load_gltf(const std::string& path, const LoadOptions& options) {
   if (!file_exists(path)) throw Error(fmt::format("{}: cannot open file", path));
   const bool binary = lower_extension(path) == ".glb";
-  if (!binary) precheck_gltf_json(path);
+  const GltfStructure structure = check_gltf_structure(path);
 
   tinygltf::TinyGLTF loader;
   if (!options.load_textures) loader.SetImageLoader(skip_image, nullptr);
@@ -562,7 +757,9 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   std::string err, warn;
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                          : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok) {
+  // tinygltf reports some spec violations in `err` and still returns true (a malformed
+  // baseColorFactor is dropped for the default): those are errors here too.
+  if (!ok || !err.empty()) {
     const bool buffer = err.find("buffer") != std::string::npos &&
                         (err.find("not found") != std::string::npos ||
                          err.find("Failed to load") != std::string::npos);
@@ -584,7 +781,7 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
       continue;
     add_warning(scene, fmt::format("{}: {}", path, line));
   }
-  GltfReader(path, model, scene, options).read();
+  GltfReader(path, model, structure, scene, options).read();
   if (scene.materials.empty()) {
     Material m;
     m.name = "default";

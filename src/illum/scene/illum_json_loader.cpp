@@ -3,12 +3,14 @@
 // unknown key is an error naming the file and the key. Format: docs/scene-format.md.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "illum/core/error.h"
 #include "illum/core/params.h"
 #include "illum/scene/loaders.h"
 #include "illum/scene/mesh_processing.h"
+#include "illum/scene/scene_validation.h"
 
 namespace illum::detail {
 
@@ -58,22 +60,24 @@ MaterialType material_type(const Params& p, const std::string& key) {
                   p.where(key), t));
 }
 
-Color non_negative_color(const Params& p, const std::string& key, const Color& fallback) {
+// A colour under the shared rules of scene_validation.h: finite, ≥ 0 and at most `max`
+// (1 for reflectances).
+Color non_negative_color(const Params& p, const std::string& key, const Color& fallback,
+                         float max = std::numeric_limits<float>::max()) {
   const Color c = p.get<vec3>(key, fallback);
-  if (c.r < 0.0f || c.g < 0.0f || c.b < 0.0f)
-    throw Error(fmt::format("{} must not be negative", p.where(key)));
+  check_color(c, p.where(key), max);
   return c;
 }
 
 void override_material(Material& m, const Params& p, TextureCache& textures,
                        const std::string& dir) {
   if (p.has("type")) m.type = material_type(p, "type");
-  m.albedo = non_negative_color(p, "albedo", m.albedo);
-  m.specular = non_negative_color(p, "specular", m.specular);
-  m.exponent = p.get_float_in("exponent", m.exponent, 0.0f, 1e6f);
+  m.albedo = non_negative_color(p, "albedo", m.albedo, 1.0f);
+  m.specular = non_negative_color(p, "specular", m.specular, 1.0f);
+  m.exponent = p.get_float_in("exponent", m.exponent, 0.0f, kMaxExponent);
   m.roughness = p.get_float_in("roughness", m.roughness, 0.0f, 1.0f);
-  m.ior = p.get_float_in("ior", m.ior, 1.0f, 10.0f);
-  m.transmittance = non_negative_color(p, "transmittance", m.transmittance);
+  m.ior = p.get_float_in("ior", m.ior, 1.0f, kMaxIor);
+  m.transmittance = non_negative_color(p, "transmittance", m.transmittance, 1.0f);
   m.eta = non_negative_color(p, "eta", m.eta);
   m.k = non_negative_color(p, "k", m.k);
   m.emission = non_negative_color(p, "emission", m.emission);
@@ -158,6 +162,9 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
       if (!file_exists(file))
         throw Error(fmt::format("{}: cannot open file '{}' ({})", path, file, entry.where("file")));
       Scene part = ext == ".obj" ? load_obj(file, options) : load_gltf(file, options);
+      // Checked here too, so a bad value names the file it is in (an MTL's Kd, say), not
+      // only this scene file as finalize_scene would.
+      validate_scene_values(part, file);
       const mat4 transform = read_transform(entry);
 
       // Drop hidden objects (by instance or mesh name); an unknown name is a typo.

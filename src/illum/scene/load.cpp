@@ -103,12 +103,26 @@ Scene load_scene(const std::string& path_or_name, const LoadOptions& options) {
   if (!detail::file_exists(path)) throw Error(fmt::format("{}: cannot open file", path));
 
   Scene scene;
-  if (ext == ".obj") {
-    scene = detail::load_obj(path, options);
-  } else if (ext == ".gltf" || ext == ".glb") {
-    scene = detail::load_gltf(path, options);
-  } else {
-    scene = detail::load_illum_json(path, options);
+  try {
+    if (ext == ".obj") {
+      scene = detail::load_obj(path, options);
+    } else if (ext == ".gltf" || ext == ".glb") {
+      scene = detail::load_gltf(path, options);
+    } else {
+      scene = detail::load_illum_json(path, options);
+    }
+    finalize_scene(scene, path);
+  } catch (const Error&) {
+    throw;
+  } catch (const InternalError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    // The loaders check declared sizes against the bytes that exist; this is the last line.
+    throw Error(fmt::format("{}: out of memory while loading the scene", path));
+  } catch (const std::exception& e) {
+    // A parser library's own exception (nlohmann, tinygltf, the standard library) is still
+    // bad input: one line naming the file, exit code 2, never the CLI's generic failure.
+    throw Error(fmt::format("{}: {}", path, e.what()));
   }
   if (name.empty()) {
     name = std::filesystem::path(path).filename().string();
@@ -126,7 +140,9 @@ Scene load_scene(const std::string& path_or_name, const LoadOptions& options) {
   }
   if (scene.name.empty()) scene.name = name;
   scene.source_path = path;
-  finalize_scene(scene, path);
+  // Warnings reach the log only now, after the whole load succeeded: a failing load prints its
+  // one error line and nothing before it.
+  for (const std::string& warning : scene.warnings) log::warn("{}", warning);
   log::debug("{}: {} meshes, {} instances, {} triangles, {} materials, {} lights", path,
              scene.meshes.size(), scene.instances.size(), scene.triangle_count(),
              scene.materials.size(), scene.lights.size());

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "illum/core/error.h"
-#include "illum/core/log.h"
+#include "illum/scene/scene_validation.h"
 
 namespace illum {
 
@@ -36,7 +36,6 @@ double squared_diagonal(const Mesh& mesh) {
 
 void add_warning(Scene& scene, const std::string& message) {
   scene.warnings.push_back(message);
-  log::warn("{}", message);
 }
 
 void validate_mesh(const Mesh& mesh, const std::string& origin, size_t material_count) {
@@ -202,15 +201,7 @@ void transform_mesh(Mesh& mesh, const mat4& transform) {
 
 void finalize_scene(Scene& scene, const std::string& origin) {
   for (const Mesh& mesh : scene.meshes) validate_mesh(mesh, origin, scene.materials.size());
-  for (const Instance& inst : scene.instances) {
-    if (inst.mesh < 0 || static_cast<size_t>(inst.mesh) >= scene.meshes.size())
-      throw Error(fmt::format("{}: instance '{}' refers to mesh {}, but there are {} meshes",
-                              origin, inst.name, inst.mesh, scene.meshes.size()));
-    for (int c = 0; c < 4; ++c) {
-      if (!finite4(inst.transform[c]))
-        throw Error(fmt::format("{}: instance '{}' has a non-finite transform", origin, inst.name));
-    }
-  }
+  validate_scene_values(scene, origin);
 
   size_t dropped = 0;
   for (Mesh& mesh : scene.meshes) dropped += drop_degenerate_triangles(mesh);

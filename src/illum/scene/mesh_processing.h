@@ -49,13 +49,15 @@ void compute_tangents(Mesh& mesh);
 void transform_mesh(Mesh& mesh, const mat4& transform);
 
 // Final pass over a parsed scene, in this order: validates every mesh (see validate_mesh)
-// and instance; drops degenerate triangles with ONE warning (Scene::warnings and log)
+// and every material, light, camera and instance transform (validate_scene_values in
+// scene_validation.h); drops degenerate triangles with ONE warning (Scene::warnings)
 // counting them; removes meshes left without triangles and their instances; fills normals
 // and tangents; gives every emissive instance without one a kArea light; warns when the
 // scene has no triangles. `origin` (the file) prefixes every message.
 void finalize_scene(Scene& scene, const std::string& origin);
 
-// Adds `message` to scene.warnings and logs it.
+// Adds `message` to scene.warnings. Nothing is printed here: load_scene logs the warnings
+// once the whole load has succeeded, so a failing load prints only its one error line.
 void add_warning(Scene& scene, const std::string& message);
 
 }  // namespace illum
