@@ -8,6 +8,8 @@
 # build/asan/fuzz/work/TARGET/. It stops at the first finding; KEEP_GOING=1 goes on (libFuzzer's
 # fork mode with one worker) to collect several in one run. FUZZ_BIN=DIR runs DIR/fuzz_TARGET
 # and builds nothing (a copy of the binaries, fuzzed while the tree is being rebuilt).
+# FUZZ_ARGS adds libFuzzer flags after the usual ones (fuzz/flags.sh), e.g. FUZZ_ARGS=-timeout=2
+# so a known hang costs less time per hit.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 targets="obj gltf illum_json image lightmap"
@@ -90,5 +92,7 @@ source fuzz/flags.sh
 args=("${illum_fuzz_flags[@]}" -max_total_time="$seconds" -dict="fuzz/dicts/$target.dict"
       -artifact_prefix="$work/findings/" -print_final_stats=1)
 [[ ${KEEP_GOING:-0} == 1 ]] && args+=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
+read -r -a extra <<<"${FUZZ_ARGS:-}"
+args+=("${extra[@]}")
 echo "fuzz: $target for $seconds s; corpus $work/corpus; findings $work/findings/"
 exec "$binary" "${args[@]}" "$work/corpus" "${seeds[@]}"
