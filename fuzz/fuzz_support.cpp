@@ -1,7 +1,9 @@
 #include "fuzz_support.h"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -17,9 +19,25 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr std::string_view kScratchPrefix = "illum-fuzz-";
+
 void remove_scratch_dir() {
   std::error_code ignored;
   fs::remove_all(scratch_dir(), ignored);
+}
+
+// A process that crashed (a finding) never ran its atexit handler: remove the folders of
+// harness processes that no longer exist.
+void remove_stale_scratch_dirs(const fs::path& root) {
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(root, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(kScratchPrefix)) continue;
+    const long pid = std::strtol(name.c_str() + kScratchPrefix.size(), nullptr, 10);
+    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) stale.push_back(entry.path());
+  }
+  for (const fs::path& dir : stale) fs::remove_all(dir, ec);
 }
 
 // A small image whose texels all differ, so a decoder that drops or swaps rows shows.
@@ -39,12 +57,14 @@ const fs::path& scratch_dir() {
     std::error_code ec;
     const fs::path root =
         fs::is_directory("/dev/shm", ec) ? fs::path("/dev/shm") : fs::temp_directory_path();
-    fs::path d = root / fmt::format("illum-fuzz-{}", ::getpid());
+    remove_stale_scratch_dirs(root);
+    fs::path d = root / fmt::format("{}{}", kScratchPrefix, ::getpid());
     fs::remove_all(d, ec);
     fs::create_directories(d);
-    std::atexit(remove_scratch_dir);
     return d;
   }();
+  // Registered after `dir` is built, so it runs before `dir` is destroyed at exit.
+  [[maybe_unused]] static const bool removed_at_exit = std::atexit(remove_scratch_dir) == 0;
   return dir;
 }
 
