@@ -9,6 +9,13 @@ target_compile_options(illum_options INTERFACE
   $<$<BOOL:${ILLUM_WERROR}>:-Werror>)
 target_include_directories(illum_options INTERFACE ${PROJECT_SOURCE_DIR}/src)
 
+# The fuzz harnesses (fuzz/) need libFuzzer, which only clang has. Their libraries get
+# libFuzzer's coverage instrumentation (without its main) so the fuzzer sees illum's branches.
+if(ILLUM_BUILD_FUZZ AND NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  message(FATAL_ERROR "ILLUM_BUILD_FUZZ needs clang (the asan preset uses it); "
+                      "CMAKE_CXX_COMPILER is ${CMAKE_CXX_COMPILER_ID}")
+endif()
+
 # Where the project's own data (built-in scenes) lives, for lookups without a path.
 set(ILLUM_DATA_DIR "${PROJECT_SOURCE_DIR}/data" CACHE PATH "illum data folder")
 # The shared test scenes beside the checkout (../shared/scenes), used by tests and benchmarks.
@@ -31,4 +38,7 @@ function(illum_layer name)
   target_include_directories(illum_${name} PUBLIC ${PROJECT_SOURCE_DIR}/src)
   target_link_libraries(illum_${name} PUBLIC ${L_PUBLIC_DEPS} PRIVATE illum::options ${L_PRIVATE_DEPS})
   set_target_properties(illum_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  if(ILLUM_BUILD_FUZZ)
+    target_compile_options(illum_${name} PRIVATE -fsanitize=fuzzer-no-link)
+  endif()
 endfunction()

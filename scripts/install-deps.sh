@@ -12,6 +12,10 @@ packages=(
   libvulkan-dev glslc glslang-tools spirv-tools vulkan-validationlayers
   mesa-vulkan-drivers vulkan-tools libglfw3-dev libimgui-dev xvfb xauth xdotool
   libgtest-dev libgmock-dev libbenchmark-dev clang-format
+  # The asan preset and the fuzz harnesses: clang with libFuzzer and the sanitizer runtimes,
+  # and llvm-symbolizer for readable reports. Clang 16, not Debian's default 14: clang 14
+  # cannot compile libstdc++ 12's std::source_location, which illum::Error uses.
+  clang-16 libclang-rt-16-dev llvm-16
 )
 
 missing=()

@@ -15,6 +15,7 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/core/error.h"
 #include "illum/scene/load.h"
+#include "test_support/prerequisites.h"
 
 namespace illum::atlas {
 namespace {
@@ -200,8 +201,8 @@ TEST(AtlasScenes, TexelRasterAgreesOnCornell) {
 class Sibenik : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const std::string obj = std::string(ILLUM_SHARED_SCENES) + "/sibenik/sibenik.obj";
-    if (!std::ifstream(obj)) return;
+    if (!std::ifstream(::illum::test::shared_scene("sibenik/sibenik.obj")))
+      return;  // SetUp reports it
     LoadOptions load;
     load.load_textures = false;
     scene_ = new Scene(load_scene("sibenik", load));
@@ -211,9 +212,7 @@ class Sibenik : public ::testing::Test {
     delete scene_;
     scene_ = nullptr;
   }
-  void SetUp() override {
-    if (!scene_) GTEST_SKIP() << "shared scenes not found at " << ILLUM_SHARED_SCENES;
-  }
+  void SetUp() override { ILLUM_REQUIRE_SHARED_SCENE("sibenik/sibenik.obj"); }
   void run(int resolution) {
     AtlasOptions options;
     options.resolution = resolution;

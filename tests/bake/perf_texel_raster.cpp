@@ -11,11 +11,13 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/load.h"
+#include "test_support/prerequisites.h"
 
 namespace illum {
 namespace {
 
 TEST(TexelRasterPerf, Sibenik2048) {
+  ILLUM_REQUIRE_SHARED_SCENE("sibenik/sibenik.obj");  // the built-in sibenik reads it
   Scene scene = load_scene("sibenik");
   const int size = 2048;
   const size_t triangles = scene.triangle_count();

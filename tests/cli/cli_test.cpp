@@ -1,6 +1,7 @@
 // Runs the real `illum` binary on good and bad input. Every bad input must give exit code
 // 2, exactly one line on stderr that names the problem, and no output file.
 #include "cli_fixture.h"
+#include "test_support/prerequisites.h"
 
 using namespace illum_cli_test;
 
@@ -53,8 +54,8 @@ TEST_F(CliTest, MalformedGltf) {
 }
 
 TEST_F(CliTest, SponzaWithoutBufferFailsCleanly) {
-  const std::string sponza = std::string(ILLUM_SHARED_SCENES) + "/sponza/glTF/Sponza.gltf";
-  if (!fs::exists(sponza)) GTEST_SKIP() << "shared scenes not present at " << sponza;
+  ILLUM_REQUIRE_SHARED_SCENE("sponza/glTF/Sponza.gltf");
+  const std::string sponza = ::illum::test::shared_scene("sponza/glTF/Sponza.gltf");
   expect_bad_input(run("info " + sponza), "missing buffer");
 }
 

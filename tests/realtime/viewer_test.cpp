@@ -21,6 +21,7 @@
 
 #include "illum/core/image.h"
 #include "illum/scene/load.h"
+#include "test_support/prerequisites.h"
 
 namespace fs = std::filesystem;
 
@@ -36,14 +37,6 @@ std::string slurp(const fs::path& p) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-bool on_path(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  for (std::string dir; std::getline(ss, dir, ':');)
-    if (!dir.empty() && fs::exists(fs::path(dir) / program)) return true;
-  return false;
 }
 
 class ViewerTest : public ::testing::Test {
@@ -148,7 +141,7 @@ void ViewerTest::expect_window_matches_headless_frame(const std::string& extra) 
 }
 
 TEST_F(ViewerTest, WindowShowsSceneAndPanelWithoutValidationMessages) {
-  if (!on_path("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh)";
+  ILLUM_REQUIRE_PROGRAM("xvfb-run");
   expect_window_matches_headless_frame("");
   fs::copy_file(dir_ / "shot.png", fs::path(ILLUM_BINARY_DIR) / "viewer_test_shot.png",
                 fs::copy_options::overwrite_existing);
@@ -156,7 +149,7 @@ TEST_F(ViewerTest, WindowShowsSceneAndPanelWithoutValidationMessages) {
 
 // A baked light-map folder is shown by the window exactly as by `illum frame`.
 TEST_F(ViewerTest, WindowShowsABakedLightmap) {
-  if (!on_path("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh)";
+  ILLUM_REQUIRE_PROGRAM("xvfb-run");
   const fs::path folder = dir_ / "cornell-lm";
   const Outcome bake = run("", "bake cornell --resolution 64 --spp 4 -o " + folder.string());
   ASSERT_EQ(bake.exit_code, 0) << bake.err;
@@ -299,8 +292,8 @@ print_camera
 )sh";
 
 TEST_F(ViewerTest, KeyboardAndMouseMoveTheCameraThroughRealX11Events) {
-  if (!on_path("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh)";
-  if (!on_path("xdotool")) GTEST_SKIP() << "xdotool is not installed (scripts/install-deps.sh)";
+  ILLUM_REQUIRE_PROGRAM("xvfb-run");
+  ILLUM_REQUIRE_PROGRAM("xdotool");
   // Window pixels for the drags. The panel is 160×240 at the left of a 320×240 window
   // (checked against the viewer's summary below); (60, 8) is its title bar, where a right
   // button does nothing in ImGui (on a colour widget it would open a popup).

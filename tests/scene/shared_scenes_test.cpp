@@ -11,6 +11,7 @@
 
 #include "illum/core/error.h"
 #include "illum/scene/load.h"
+#include "test_support/prerequisites.h"
 #include "test_util.h"
 
 namespace illum {
@@ -160,8 +161,8 @@ FaceScan scan_obj(const std::string& path, const std::string& hidden) {
 }
 
 TEST(SharedScenes, SibenikBuiltin) {
-  const std::string obj = fmt::format("{}/sibenik/sibenik.obj", ILLUM_SHARED_SCENES);
-  if (!std::ifstream(obj)) GTEST_SKIP() << "shared scenes not found at " << obj;
+  ILLUM_REQUIRE_SHARED_SCENE("sibenik/sibenik.obj");
+  const std::string obj = test::shared_scene("sibenik/sibenik.obj");
   const FaceScan all = scan_obj(obj, "");
   EXPECT_EQ(all.triangles, 80479u);  // the README's count
   const FaceScan expected = scan_obj(obj, "glas__glas");
@@ -191,8 +192,8 @@ TEST(SharedScenes, SibenikBuiltin) {
 }
 
 TEST(SharedScenes, Bunny) {
-  const std::string path = fmt::format("{}/bunny/bunny.obj", ILLUM_SHARED_SCENES);
-  if (!std::ifstream(path)) GTEST_SKIP() << "shared scenes not found at " << path;
+  ILLUM_REQUIRE_SHARED_SCENE("bunny/bunny.obj");
+  const std::string path = test::shared_scene("bunny/bunny.obj");
   const Scene scene = load_scene(path);
   EXPECT_EQ(scene.name, "bunny");
   EXPECT_EQ(scene.triangle_count(), 69451u);
@@ -212,8 +213,8 @@ TEST(SharedScenes, Bunny) {
 }
 
 TEST(SharedScenes, SponzaMissingBufferIsAnError) {
-  const std::string path = fmt::format("{}/sponza/glTF/Sponza.gltf", ILLUM_SHARED_SCENES);
-  if (!std::ifstream(path)) GTEST_SKIP() << "shared scenes not found at " << path;
+  ILLUM_REQUIRE_SHARED_SCENE("sponza/glTF/Sponza.gltf");
+  const std::string path = test::shared_scene("sponza/glTF/Sponza.gltf");
   const std::string message = test::error_of([&] { load_scene(path); });
   EXPECT_TRUE(contains(message, "missing buffer")) << message;
   EXPECT_TRUE(contains(message, "Sponza.gltf")) << message;
