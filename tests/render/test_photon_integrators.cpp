@@ -60,10 +60,10 @@ SeedStats seed_stats(const std::vector<double>& v) {
   return s;
 }
 
-// Two-sided 99.9 % quantiles of Student's t for 5 and 6 degrees of freedom (6 and 7 runs);
-// Welch–Satterthwaite degrees of freedom are at least min(n1, n2) − 1.
-constexpr double kT5 = 6.869;
+// Two-sided 99.9 % quantile of Student's t for kSeeds − 1 = 5 degrees of freedom (6.869,
+// computed); Welch–Satterthwaite degrees of freedom are at least min(n1, n2) − 1.
 constexpr int kSeeds = 6;
+const double kT5 = test::student_t_quantile(0.0005, kSeeds - 1);
 
 Scene furnace_sphere(float a) {
   return test::furnace_sphere(a, 24, 48);
