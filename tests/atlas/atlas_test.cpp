@@ -2,6 +2,7 @@
 // density, overlap repair, degenerate triangles, packing limits, options, apply_atlas.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -390,9 +391,14 @@ TEST(Atlas, MeshWithoutInstance) {
 
 TEST(Atlas, Deterministic) {
   // atlas/README.md: the same scene and options give the same atlas whatever the thread
-  // count (1, 2 and 4; on fewer cores, as many as there are).
-  const Scene scene = make_scene({roof(30.0f), split_grid(5), roof(60.0f, 3.0f, 2.0f)});
-  const AtlasOptions options = options_of(256, 0.0f);
+  // count (1, 2 and 4; on fewer cores, as many as there are). Meshes are charted in
+  // parallel, so there are 24 of them, enough for every thread to get some.
+  std::vector<Mesh> meshes;
+  for (int i = 0; i < 8; ++i)
+    for (Mesh m : {roof(30.0f + 5.0f * i), split_grid(5 + i), roof(60.0f, 3.0f, 2.0f)})
+      meshes.push_back(std::move(m));
+  const Scene scene = make_scene(std::move(meshes));
+  const AtlasOptions options = options_of(512, 0.0f);
   const auto build = [&](int threads) {
     ThreadLimit limit(threads);
     return build_atlas(scene, options);
