@@ -546,19 +546,18 @@ TEST(SppmIntegrator, AgreesWithThePathTracerOnTheCornellBox) {
   // checks (pixels of one SPPM render share photons, so the spread is taken over seeds, of
   // region means).
   //
-  // SPPM's residual bias, added to each region's tolerance: its photon estimate at a visible
-  // point averages the photons within radius r ≤ r0 (the radius only shrinks) on surfaces
-  // facing the same way, and divides by πr². Where that disk runs off the surface (edges,
-  // corners, the rim of the light 0.1 mm under the ceiling) the photons beyond are missing
-  // (or, at the light's rim, come from a surface facing the same way under about the same
-  // light): an error of at most the fraction of the disk's area off the surface times the
-  // photon (k ≥ 2) part of the radiance. Per pixel that fraction is
-  // bounded by rim_outside_fraction() averaged over 16 stratified points of the pixel, and
-  // the photon part by the path tracer's all − direct (same seeds: the same paths, so the
-  // difference is the k ≥ 2 light itself). Measured: at most 1.8% of a region's mean (the
-  // regions holding the box's corners), 0.06–1% elsewhere. Away from edges the disk
-  // average misses only the second-order r²∇²L/8, which a whole region's mean sees only
-  // across the region's boundary; it is not bounded here.
+  // SPPM's residual bias, added to each region's tolerance: its photon estimate at a visible point
+  // averages the photons within radius r ≤ r0 (the radius only shrinks) on surfaces facing the same
+  // way, and divides by πr². Where that disk runs off the surface (edges, corners, the rim of the
+  // light 0.1 mm under the ceiling) the photons beyond are missing (or, at the light's rim, come
+  // from a surface facing the same way under about the same light): an error of at most the
+  // fraction of the disk's area off the surface times the photon (k ≥ 2) part of the radiance. Per
+  // pixel that fraction is bounded by rim_outside_fraction() averaged over 16 stratified points of
+  // the pixel, and the photon part by the path tracer's all − direct (same seeds: the same paths,
+  // so the difference is the k ≥ 2 light itself). Measured: 0.06–1.8% of a region's mean over the
+  // 16 regions, the most where the box's and the blocks' edges cross them. Away from edges the disk
+  // average misses only the second-order r²∇²L/8, which a whole region's mean sees only across the
+  // region's boundary; it is not bounded here.
   const Scene s = load_scene("cornell");
   ASSERT_TRUE(s.camera.has_value());
   const int size = 32, seeds = 12, regions = 4, rs = size / regions, checks = regions * regions * 3;
