@@ -519,8 +519,10 @@ TEST(PhotonTracer, MapsAreDeterministicForASeedAcrossThreadCounts) {
 // is unreachable along the surface (a wall in between), or a short probe down from just
 // above it does not land on the same instance, facing the same way, at the probe's height.
 // Where the surface around p is convex and flat (every Cornell face), the part of the disk's
-// area outside it is at most this fraction: a direction from p that leaves the surface
-// within r loses part of its rim sector's area, one that stays on it loses none.
+// area outside it is at most the rim's: along a direction that leaves the surface within r
+// only the sector's outer part is lost, along one that stays on it nothing (16 directions
+// estimate the rim's fraction; an edge missed between two of them is a corner of the
+// disk of under 1/16 of its rim).
 double rim_outside_fraction(const RayTracer& tracer, const SurfaceInteraction& si, float r) {
   const vec3 n = glm::dot(si.ng, si.wo) > 0.0f ? si.ng : -si.ng;
   const Frame f = Frame::from_normal(n);
