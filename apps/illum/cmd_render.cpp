@@ -57,6 +57,11 @@ void run_render(const RenderArgs& args) {
   check_output_path(args.output);
   const ImageFormat format = image_format_from_path(args.output);
   const bool hdr_output = format == ImageFormat::kExr || format == ImageFormat::kHdr;
+  // A folder where an output file goes would only fail after the render.
+  for (const std::string& path :
+       {args.output, hdr_output && !args.no_preview ? preview_path(args.output) : std::string()})
+    if (!path.empty() && std::filesystem::is_directory(path))
+      throw Error(fmt::format("{}: is a folder, not an image file", path));
   const ToneMapper mapper = tone_mapper_from_string(args.tonemap);
   if (!(args.exposure > 0.0f) || !std::isfinite(args.exposure))
     throw Error(fmt::format("--exposure {} must be a positive number", args.exposure));
@@ -85,8 +90,15 @@ void run_render(const RenderArgs& args) {
   if (hdr_output) {
     write_image(args.output, image);
     if (!args.no_preview) {
-      ImageWriteOptions png;
-      write_image(preview_path(args.output), tone_mapped(image, mapper, args.exposure), png);
+      // The pair is written whole or not at all: a preview that cannot be written takes
+      // the linear file just written with it (a failed run leaves no output).
+      try {
+        write_image(preview_path(args.output), tone_mapped(image, mapper, args.exposure));
+      } catch (...) {
+        std::error_code ec;
+        std::filesystem::remove(args.output, ec);
+        throw;
+      }
     }
   } else {
     write_image(args.output, tone_mapped(image, mapper, args.exposure));

@@ -2,6 +2,7 @@
 // density, overlap repair, degenerate triangles, packing limits, options, apply_atlas.
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 #include "atlas_check.h"
 #include "illum/atlas/atlas.h"
 #include "illum/core/error.h"
+#include "illum/core/parallel.h"
 #include "illum/core/params.h"
 
 namespace illum::atlas {
@@ -388,19 +390,32 @@ TEST(Atlas, MeshWithoutInstance) {
 }
 
 TEST(Atlas, Deterministic) {
-  const Scene scene = make_scene({roof(30.0f), split_grid(5), roof(60.0f, 3.0f, 2.0f)});
-  const AtlasOptions options = options_of(256, 0.0f);
-  const Atlas a = build_atlas(scene, options);
-  const Atlas b = build_atlas(scene, options);
-  EXPECT_EQ(a.texel_size, b.texel_size);
-  ASSERT_EQ(a.charts.size(), b.charts.size());
-  for (size_t c = 0; c < a.charts.size(); ++c) {
-    EXPECT_EQ(a.charts[c].x, b.charts[c].x);
-    EXPECT_EQ(a.charts[c].y, b.charts[c].y);
-  }
-  for (size_t m = 0; m < a.meshes.size(); ++m) {
-    EXPECT_EQ(a.meshes[m].uv1, b.meshes[m].uv1);
-    EXPECT_EQ(a.meshes[m].indices, b.meshes[m].indices);
+  // atlas/README.md: the same scene and options give the same atlas whatever the thread
+  // count (1, 2 and 4; on fewer cores, as many as there are). Meshes are charted in
+  // parallel, so there are 24 of them, enough for every thread to get some.
+  std::vector<Mesh> meshes;
+  for (int i = 0; i < 8; ++i)
+    for (Mesh m : {roof(30.0f + 5.0f * i), split_grid(5 + i), roof(60.0f, 3.0f, 2.0f)})
+      meshes.push_back(std::move(m));
+  const Scene scene = make_scene(std::move(meshes));
+  const AtlasOptions options = options_of(512, 0.0f);
+  const auto build = [&](int threads) {
+    ThreadLimit limit(threads);
+    return build_atlas(scene, options);
+  };
+  const Atlas a = build(1);
+  for (const int threads : {1, 2, 4}) {
+    const Atlas b = build(threads);
+    EXPECT_EQ(a.texel_size, b.texel_size) << threads << " threads";
+    ASSERT_EQ(a.charts.size(), b.charts.size()) << threads << " threads";
+    for (size_t c = 0; c < a.charts.size(); ++c) {
+      EXPECT_EQ(a.charts[c].x, b.charts[c].x) << threads << " threads";
+      EXPECT_EQ(a.charts[c].y, b.charts[c].y) << threads << " threads";
+    }
+    for (size_t m = 0; m < a.meshes.size(); ++m) {
+      EXPECT_EQ(a.meshes[m].uv1, b.meshes[m].uv1) << threads << " threads";
+      EXPECT_EQ(a.meshes[m].indices, b.meshes[m].indices) << threads << " threads";
+    }
   }
 }
 

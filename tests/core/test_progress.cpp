@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
+
 #include "illum/core/progress.h"
 
 namespace illum {
@@ -19,10 +22,40 @@ TEST(Progress, FormatSeconds) {
 }
 
 TEST(Progress, DisabledBarCountsSilently) {
-  Progress progress("test", 10, /*enabled=*/false);
-  for (int i = 0; i < 10; ++i) progress.advance();
-  progress.finish();
-  progress.finish();  // idempotent
+  // A disabled bar (stderr not a terminal: CI, pipes) still counts, and writes nothing.
+  testing::internal::CaptureStderr();
+  {
+    Progress progress("test", 10, /*enabled=*/false);
+    EXPECT_EQ(progress.done(), 0);
+    EXPECT_EQ(progress.fraction(), 0.0);
+    for (int i = 0; i < 4; ++i) progress.advance();
+    EXPECT_EQ(progress.done(), 4);
+    EXPECT_DOUBLE_EQ(progress.fraction(), 0.4);
+    progress.advance(8);  // past the total: counted, the fraction capped
+    EXPECT_EQ(progress.done(), 12);
+    EXPECT_EQ(progress.fraction(), 1.0);
+    progress.finish();
+    progress.finish();  // idempotent
+  }
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+TEST(Progress, EnabledBarDrawsOnceFinished) {
+  // The control for the check above (the capture sees what the bar writes): the same calls
+  // on an enabled bar draw it, and finish() ends it with exactly one newline.
+  testing::internal::CaptureStderr();
+  {
+    Progress progress("test", 10, /*enabled=*/true);
+    for (int i = 0; i < 10; ++i) progress.advance();
+    EXPECT_EQ(progress.done(), 10);
+    progress.finish();
+    progress.finish();
+  }
+  const std::string out = testing::internal::GetCapturedStderr();
+  EXPECT_NE(out.find("test ["), std::string::npos) << out;
+  EXPECT_NE(out.find("100.0%"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_EQ(out.back(), '\n');
 }
 
 }  // namespace

@@ -43,6 +43,10 @@ void Progress::advance(int64_t amount) {
   draw(done);
 }
 
+double Progress::fraction() const {
+  return std::min(1.0, static_cast<double>(done_.load()) / static_cast<double>(total_));
+}
+
 void Progress::draw(int64_t done) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

@@ -16,6 +16,10 @@ class Progress {
   ~Progress();
   void advance(int64_t amount = 1);
   void finish();
+  // Work counted so far (also while the bar is disabled) and its share of the total,
+  // capped at 1: what the bar shows, observable without a terminal.
+  int64_t done() const { return done_.load(); }
+  double fraction() const;
   static bool stderr_is_terminal();
   // Formats a duration like "1m05s" / "12.3s"; exposed for tests.
   static std::string format_seconds(double seconds);

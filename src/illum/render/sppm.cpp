@@ -174,7 +174,9 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
   };
   stats_ = Stats{};
   int done = 0;
+  double iteration_end_s = 0.0;  // the budget check's clock reading, also the next start
   for (int it = 0; it < iterations; ++it) {
+    stats_.last_iteration_start_s = iteration_end_s;
     // 1. Visible points.
     parallel_for_tiles(width, height, 16, [&](const Tile& tile) {
       for (int y = tile.y0; y < tile.y1; ++y) {
@@ -251,7 +253,8 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
     ++done;
     progress.advance(1);
     if (interrupt_requested()) throw Interrupted{};
-    if (options.time_budget_s > 0.0 && elapsed() >= options.time_budget_s) break;
+    iteration_end_s = elapsed();
+    if (options.time_budget_s > 0.0 && iteration_end_s >= options.time_budget_s) break;
   }
   progress.finish();
   stats_.iterations = done;

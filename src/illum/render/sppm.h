@@ -32,6 +32,9 @@ class SppmIntegrator final : public Integrator {
     int iterations = 0;
     int64_t photons_emitted = 0;
     double seconds = 0.0;
+    // When the last iteration began: with a time budget the render stops after the first
+    // iteration that ends past it, so this lies before the budget.
+    double last_iteration_start_s = 0.0;
   };
   const Stats& stats() const { return stats_; }
 

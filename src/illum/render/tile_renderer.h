@@ -39,6 +39,9 @@ struct RenderStats {
   int64_t samples = 0;   // camera samples (pixels × spp)
   int64_t dropped = 0;   // non-finite samples replaced by black
   double seconds = 0.0;  // wall time of the pixel loop
+  // When the last pass began. With a time budget the loop stops after the first pass that
+  // ends past it, so this lies before the budget and the overrun is at most that one pass.
+  double last_pass_start_s = 0.0;
 };
 
 inline constexpr int kRenderTileSize = 16;
@@ -66,9 +69,11 @@ Image render_tiles(const Camera& camera, const RenderOptions& options, const std
 
   RenderStats stats;
   int pass_spp = 1;
+  double pass_end_s = 0.0;  // the budget check's clock reading, also the next pass's start
   while (stats.spp < options.spp) {
     const int first = stats.spp;
     const int count = std::min(pass_spp, options.spp - first);
+    stats.last_pass_start_s = pass_end_s;
     parallel_for_tiles(width, height, kRenderTileSize, [&](const Tile& tile) {
       if (interrupt_requested()) return;  // Ctrl-C: finish quickly, throw below
       int64_t bad = 0;
@@ -103,7 +108,8 @@ Image render_tiles(const Camera& camera, const RenderOptions& options, const std
     ++stats.passes;
     pass_spp = std::min(2 * pass_spp, kMaxPassSpp);
     if (stats.passes == 1) pass_spp = 1;  // second pass also 1 spp: a quick early estimate
-    if (options.time_budget_s > 0.0 && elapsed() >= options.time_budget_s) break;
+    pass_end_s = elapsed();
+    if (options.time_budget_s > 0.0 && pass_end_s >= options.time_budget_s) break;
   }
   progress.finish();
   stats.seconds = elapsed();
