@@ -282,6 +282,9 @@ TEST_F(ImageErrors, JpegCodingOtherThanHuffmanIsRefused) {
 // ---------------------------------------------------------------------------------------
 // OpenEXR
 
+// The ratios image_checks.cpp allows, for the printout.
+const char* const kCompressionBounds[] = {"1",    "64", "1032", "1032",   "410",
+                                          "1376", "11", "11",   "132096", "132096"};
 const char* const kCompressionNames[] = {"none",  "rle", "zips", "zip",  "piz",
                                          "pxr24", "b44", "b44a", "dwaa", "dwab"};
 
@@ -333,10 +336,11 @@ void write_scanline_exr(const std::string& file, int w, int h, Imf::Compression 
 
 void write_tiled_exr(const std::string& file, int w, int h, Imf::LevelMode mode,
                      Imf::LevelRoundingMode rounding, Imf::Compression compression,
-                     const std::function<float(int, int, int)>& value) {
+                     const std::function<float(int, int, int)>& value, int tile = 0) {
   Imf::Header header(w, h);
   header.compression() = compression;
-  header.setTileDescription(Imf::TileDescription(16, 8, mode, rounding));
+  header.setTileDescription(
+      Imf::TileDescription(tile > 0 ? tile : 16, tile > 0 ? tile : 8, mode, rounding));
   const char* names[] = {"R", "G", "B"};
   for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::HALF));
   Imf::TiledOutputFile out(file.c_str(), header);
@@ -383,10 +387,16 @@ TEST_F(ImageErrors, EveryExrCompressionAndLayoutStillReads) {
       SCOPED_TRACE(fmt::format("{} {}", kCompressionNames[compression],
                                type == Imf::HALF ? "half" : "float"));
       const std::string file = path("c.exr");
-      write_scanline_exr(file, 300, 70, comp, type, [](int, int, int) { return 0.0f; });
+      write_scanline_exr(file, 1024, 256, comp, type, [](int, int, int) { return 0.0f; });
       const Image flat = read_image(file);
-      ASSERT_EQ(flat.width(), 300);
+      ASSERT_EQ(flat.width(), 1024);
       for (float v : flat.data()) ASSERT_EQ(v, 0.0f);
+      const double pixel_bytes = 1024.0 * 256.0 * 3.0 * (type == Imf::HALF ? 2.0 : 4.0);
+      std::printf(
+          "constant 1024x256 %-5s %-5s: %8zu bytes, pixels/file %6.0f (bound per chunk %s)\n",
+          kCompressionNames[compression], type == Imf::HALF ? "half" : "float",
+          static_cast<size_t>(fs::file_size(file)),
+          pixel_bytes / static_cast<double>(fs::file_size(file)), kCompressionBounds[compression]);
       write_scanline_exr(file, 300, 70, comp, type, pattern_value);
       expect_level0(read_image(file), 300, 70, lossless, "pattern");
     }
@@ -474,8 +484,33 @@ TEST_F(ImageErrors, ExrChunkSizesAreChecked) {
   const size_t table = exr_offset_table(b, 4);
   uint64_t first = 0;
   for (int i = 0; i < 8; ++i) first |= uint64_t{b[table + i]} << (8 * i);
-  put_u32le(b, static_cast<size_t>(first) + 4, 10);  // 96 bytes of pixels in 10
-  EXPECT_MESSAGE(decode_error(b, "short.exr"), "short.exr", "more than its compression can expand");
+  Bytes short_chunk = b;
+  put_u32le(short_chunk, static_cast<size_t>(first) + 4, 10);  // 96 bytes of pixels in 10
+  EXPECT_MESSAGE(decode_error(short_chunk, "short.exr"), "short.exr",
+                 "more than its compression can expand");
+  Bytes long_chunk = b;
+  put_u32le(long_chunk, static_cast<size_t>(first) + 4, 97);  // more bytes than its pixels
+  EXPECT_MESSAGE(decode_error(long_chunk, "long.exr"), "long.exr", "97 bytes for 96 bytes");
+  Bytes at_zero = b;  // an offset of 0: the writer never finished the table
+  put_u32le(at_zero, table, 0);
+  put_u32le(at_zero, table + 4, 0);
+  EXPECT_MESSAGE(decode_error(at_zero, "zero.exr"), "zero.exr", "outside the data");
+  Bytes swapped = b;  // chunk 0's offset names chunk 1's data (scanline 1)
+  std::copy_n(b.begin() + static_cast<std::ptrdiff_t>(table + 8), 8,
+              swapped.begin() + static_cast<std::ptrdiff_t>(table));
+  EXPECT_MESSAGE(decode_error(swapped, "swapped.exr"), "swapped.exr",
+                 "holds scanline 1, expected 0");
+}
+
+TEST_F(ImageErrors, ExrTileTableMustFitTheFile) {
+  // 1×1 tiles over a 16384² window are 2^28 chunks: their offset table alone would be 2 GiB.
+  write_tiled_exr(path("t.exr"), 16, 16, Imf::ONE_LEVEL, Imf::ROUND_DOWN, Imf::ZIP_COMPRESSION,
+                  pattern_value, 1);
+  Bytes b = bytes_of(path("t.exr"));
+  const size_t dw = find(b, std::string_view("dataWindow\0box2i\0", 17)) + 17 + 4;
+  put_u32le(b, dw + 8, 16383);
+  put_u32le(b, dw + 12, 16383);
+  EXPECT_MESSAGE(decode_error(b, "tiles.exr"), "tiles.exr", "offset table");
 }
 
 TEST_F(ImageErrors, ExrChannelsMustMakeAnImage) {
@@ -506,6 +541,11 @@ TEST_F(ImageErrors, ExrHeaderAttributesCannotAskForMemory) {
                      [](Imf::Header& h) {
                        h.insert("views", Imf::StringVectorAttribute({"left", "right"}));
                      });
+  Bytes attribute = bytes_of(path("v.exr"));
+  put_u32le(attribute, find(attribute, std::string_view("views\0stringvector\0", 19)) + 19,
+            0x7ffffff0u);
+  EXPECT_MESSAGE(decode_error(attribute, "attribute.exr"), "attribute.exr",
+                 "declares 2147483632 bytes");
   Bytes views = bytes_of(path("v.exr"));
   const size_t sv = find(views, std::string_view("views\0stringvector\0", 19)) + 19 + 4;
   put_u32le(views, sv, 0x7ffffff0u);
