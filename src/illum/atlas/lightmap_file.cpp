@@ -184,7 +184,8 @@ class Manifest {
 
 LightmapSet load_lightmap_set(const fs::path& folder) {
   const std::string where = folder.string();
-  if (!fs::is_directory(folder))
+  std::error_code ec;  // an unreadable path is "does not exist", not a filesystem_error
+  if (!fs::is_directory(folder, ec))
     throw Error(fmt::format("light-map folder '{}' does not exist", where));
   const std::string manifest_where = fmt::format("{}/{}", where, kManifest);
   std::ifstream file(folder / kManifest);

@@ -492,22 +492,6 @@ ExrInfo check_exr(std::span<const uint8_t> bytes, const std::string& name) {
       if (level_mode > 2 || (mode >> 4) > 1)
         c.fail(fmt::format("malformed OpenEXR header: tile mode {:#x}", mode));
       have_tiles = true;
-    } else if (type == "preview") {
-      // OpenEXR allocates width × height RGBA pixels from the first 8 bytes.
-      const uint32_t pw = c.u32le("the preview"), ph = c.u32le("the preview");
-      if (uint64_t{pw} * ph * 4 + 8 != static_cast<uint64_t>(size))
-        c.fail(fmt::format("malformed OpenEXR header: a {}×{} preview in {} bytes", pw, ph, size));
-    } else if (type == "stringvector") {
-      // Each string's own length is read before its bytes and allocated.
-      while (c.pos() < end) {
-        const int32_t length = c.i32le("a string vector");
-        if (length < 0 || c.pos() + static_cast<uint64_t>(length) > end)
-          c.fail(
-              fmt::format("malformed OpenEXR header: attribute '{}' holds a string of {} "
-                          "bytes past its end",
-                          attribute, length));
-        c.skip(static_cast<uint64_t>(length), "a string vector");
-      }
     }
     if (c.pos() > end)
       c.fail(fmt::format("malformed OpenEXR header: attribute '{}' overruns its {} bytes",
