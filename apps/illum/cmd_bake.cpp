@@ -33,6 +33,7 @@ struct BakeArgs {
   uint64_t seed = 0;
   int threads = 0;
   std::vector<std::string> params;  // atlas and baker keys
+  LoadOptions load;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -64,7 +65,7 @@ void run_bake(const BakeArgs& args) {
   params.check_all_used();
 
   ThreadLimit limit(args.threads);
-  Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene, args.load);
   const size_t scene_triangles = scene.triangle_count();
 
   auto t0 = std::chrono::steady_clock::now();
@@ -156,6 +157,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("-p,--param", args->params,
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
                   "denoise=true|false, denoise_strength)");
+  add_load_options(cmd, &args->load);
   cmd->callback([args] { run_bake(*args); });
 }
 

@@ -36,6 +36,7 @@ struct FrameArgs {
   std::string lightmap;  // folder written by `illum bake`
   float exposure = 1.0f;
   bool fixed_exposure = false;
+  LoadOptions load;
   std::vector<std::string> params;
 };
 
@@ -58,7 +59,7 @@ void run_frame(const FrameArgs& args) {
                                {"width", "--width"},
                                {"height", "--height"},
                                {"exposure", "--exposure"}});
-  Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene, args.load);
   realtime::Lightmap lightmap;
   if (!args.lightmap.empty())
     lightmap = realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
@@ -199,6 +200,7 @@ void add_frame_command(CLI::App& app) {
       "half_lambert, ambient=[r,g,b] (default: the scene's settings.ambient), key, bloom_strength, "
       "bloom_threshold, "
       "deferred_lighting=compute|volumes");
+  add_load_options(cmd, &args->load);
   cmd->callback([args] { run_frame(*args); });
 }
 

@@ -82,8 +82,10 @@ void add_info_command(CLI::App& app) {
   cmd->add_option("scene", *scene, "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
       ->required();
   cmd->add_flag("--json", *json, "print JSON instead of text");
-  cmd->callback([scene, json] {
-    const Scene s = load_scene(*scene);
+  auto load = std::make_shared<LoadOptions>();
+  add_load_options(cmd, load.get());
+  cmd->callback([scene, json, load] {
+    const Scene s = load_scene(*scene, *load);
     const auto j = describe(s);
     if (*json)
       std::printf("%s\n", j.dump(2).c_str());

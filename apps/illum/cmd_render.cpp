@@ -32,6 +32,7 @@ struct RenderArgs {
   float exposure = 1.0f;
   std::string tonemap = "clamp";
   bool no_preview = false;
+  LoadOptions load;
 };
 
 Params integrator_params(const RenderArgs& args) {
@@ -66,7 +67,7 @@ void run_render(const RenderArgs& args) {
   if (!(args.exposure > 0.0f) || !std::isfinite(args.exposure))
     throw Error(fmt::format("--exposure {} must be a positive number", args.exposure));
 
-  const Scene scene = load_scene(args.scene);
+  const Scene scene = load_scene(args.scene, args.load);
   RenderOptions options;
   options.width = args.width > 0 ? args.width : scene.settings.width;
   options.height = args.height > 0 ? args.height : scene.settings.height;
@@ -148,6 +149,7 @@ void add_render_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-preview", args->no_preview,
                 "with .exr/.hdr output, do not also write a tone-mapped .png");
+  add_load_options(cmd, &args->load);
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -36,6 +36,7 @@ struct ViewArgs {
   std::string screenshot;
   std::string camera_out;
   std::string lightmap;  // folder written by `illum bake`
+  LoadOptions load;
 };
 
 // One line of JSON, written through a hidden temporary name renamed on success.
@@ -79,7 +80,7 @@ void run_view(const ViewArgs& args) {
   if (args.frames < 0) throw Error(fmt::format("--frames {} must be ≥ 0", args.frames));
   if (!std::isfinite(args.seconds) || args.seconds < 0.0)
     throw Error(fmt::format("--seconds {} must be a finite number ≥ 0", args.seconds));
-  Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene, args.load);
   realtime::ViewerOptions viewer;
   if (!args.lightmap.empty())
     viewer.lightmap =
@@ -150,6 +151,7 @@ void add_view_command(CLI::App& app) {
                   "at exit, write the camera as one line of JSON to this .json file: the "
                   "scene file's \"camera\" object (position, look_at, up, fov_y_deg), to "
                   "paste into a .illum.json (the C key prints it while running)");
+  add_load_options(cmd, &args->load);
   cmd->callback([args] { run_view(*args); });
 }
 

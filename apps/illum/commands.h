@@ -9,6 +9,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "illum/scene/load.h"
+
 namespace illum::cli {
 
 void add_info_command(CLI::App& app);
@@ -31,5 +33,8 @@ nlohmann::json key_values_to_json(const std::vector<std::string>& items);
 // Refuses an output path whose folder does not exist or whose extension is not one of the
 // image formats, before any long work starts.
 void check_output_path(const std::string& path);
+
+// The scene-loading flags every subcommand that loads a scene takes (--allow-missing-textures).
+void add_load_options(CLI::App* cmd, LoadOptions* options);
 
 }  // namespace illum::cli

@@ -63,6 +63,12 @@ void check_output_path(const std::string& path) {
     throw Error(fmt::format("{}: output folder '{}' does not exist", path, parent.string()));
 }
 
+void add_load_options(CLI::App* cmd, LoadOptions* options) {
+  cmd->add_flag("--allow-missing-textures", options->allow_missing_textures,
+                "a missing or unreadable texture, .mtl or environment map is one warning, and "
+                "the scene renders without it (default: an error)");
+}
+
 }  // namespace illum::cli
 
 int main(int argc, char** argv) {

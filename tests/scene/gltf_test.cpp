@@ -146,7 +146,7 @@ TEST(Gltf, AccessorPastBufferEnd) {
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
 }
 
-TEST(Gltf, TexturesDecodedAndMissingOnesWarned) {
+TEST(Gltf, TexturesDecodedAndMissingOnesAllowed) {
   TempDir dir;
   Image img(2, 1, 3);
   img.set_rgb(0, 0, Color(1.0f, 0.0f, 0.0f));
@@ -157,7 +157,11 @@ TEST(Gltf, TexturesDecodedAndMissingOnesWarned) {
   a.json["textures"] = {{{"source", 0}}, {{"source", 1}}};
   a.json["materials"][3]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   a.json["materials"][2]["normalTexture"] = {{"index", 1}, {"scale", 0.5}};
-  const Scene scene = load_scene(write_gltf(dir, a));
+  // A missing image is an error (obj_texture_errors_test.cpp), one warning when allowed.
+  EXPECT_TRUE(contains(test::error_of([&] { load_scene(write_gltf(dir, a)); }), "missing.png"));
+  LoadOptions allow;
+  allow.allow_missing_textures = true;
+  const Scene scene = load_scene(write_gltf(dir, a), allow);
   const Material& plastic = material(scene, "plastic");
   ASSERT_NE(plastic.albedo_texture, kNoTexture);
   const Texture& tex = scene.textures.at(plastic.albedo_texture);

@@ -134,53 +134,108 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
   }
 }
 
+namespace {
+
+// The manifest's fields, each checked for its type and range; every message names the file
+// and the key.
+class Manifest {
+ public:
+  Manifest(nlohmann::json json, std::string where)
+      : json_(std::move(json)), where_(std::move(where)) {
+    if (!json_.is_object()) fail("the manifest must be a JSON object");
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(fmt::format("{}: {}", where_, what));
+  }
+  const nlohmann::json& at(const char* key) const {
+    const auto it = json_.find(key);
+    if (it == json_.end()) fail(fmt::format("'{}' is missing", key));
+    return *it;
+  }
+  std::string string(const char* key) const {
+    const nlohmann::json& v = at(key);
+    if (!v.is_string()) fail(fmt::format("'{}' must be a string, not {}", key, v.type_name()));
+    return v.get<std::string>();
+  }
+  uint64_t unsigned_integer(const char* key, uint64_t max) const {
+    const nlohmann::json& v = at(key);
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > max)
+      fail(fmt::format("'{}' must be an integer in [0, {}], not {}", key, max,
+                       v.dump().substr(0, 40)));
+    return v.get<uint64_t>();
+  }
+  // A file name inside the folder (no folder part, not "." or "..").
+  std::string file_name(const char* key, const nlohmann::json& v) const {
+    if (!v.is_string()) fail(fmt::format("'{}' must list file names, not {}", key, v.type_name()));
+    const std::string name = v.get<std::string>();
+    const fs::path p(name);
+    if (name.empty() || p.has_parent_path() || p.is_absolute() || name == "." || name == "..")
+      fail(fmt::format("'{}': '{}' must be a file in the folder", key, name));
+    return name;
+  }
+  const nlohmann::json& json() const { return json_; }
+
+ private:
+  nlohmann::json json_;
+  std::string where_;
+};
+
+}  // namespace
+
 LightmapSet load_lightmap_set(const fs::path& folder) {
   const std::string where = folder.string();
-  if (!fs::is_directory(folder))
+  std::error_code ec;  // an unreadable path is "does not exist", not a filesystem_error
+  if (!fs::is_directory(folder, ec))
     throw Error(fmt::format("light-map folder '{}' does not exist", where));
+  const std::string manifest_where = fmt::format("{}/{}", where, kManifest);
   std::ifstream file(folder / kManifest);
   if (!file) throw Error(fmt::format("{}: no {} (not a light-map folder)", where, kManifest));
-  nlohmann::json manifest;
+  nlohmann::json json;
   try {
-    manifest = nlohmann::json::parse(file);
+    json = nlohmann::json::parse(file);
   } catch (const nlohmann::json::exception& e) {
-    throw Error(fmt::format("{}/{}: malformed JSON: {}", where, kManifest, e.what()));
+    throw Error(fmt::format("{}: malformed JSON: {}", manifest_where, e.what()));
   }
+  const Manifest manifest(std::move(json), manifest_where);
   LightmapSet set;
-  try {
-    if (manifest.at("format").get<std::string>() != "illum-lightmap" ||
-        manifest.at("version").get<int>() != kVersion)
-      throw Error(fmt::format("{}/{}: not an illum-lightmap version {} manifest", where, kManifest,
-                              kVersion));
-    set.basis = manifest.at("basis").get<std::string>();
-    set.content = manifest.at("content").get<std::string>();
-    if (set.content != "all" && set.content != "indirect")
-      throw Error(fmt::format("{}/{}: unknown content '{}' (all or indirect)", where, kManifest,
-                              set.content));
-    set.scene = manifest.value("scene", "");
-    set.scene_triangles = manifest.at("scene_triangles").get<size_t>();
-    set.bake = manifest.value("bake", nlohmann::json::object());
-    const auto names = manifest.at("layers").get<std::vector<std::string>>();
-    const int expected = lightmap_layer_count(set.basis);
-    if (int(names.size()) != expected)
-      throw Error(fmt::format("{}/{}: basis '{}' needs {} layers, the manifest lists {}", where,
-                              kManifest, set.basis, expected, names.size()));
-    set.atlas = load_atlas(folder / manifest.at("atlas").get<std::string>());
-    for (const std::string& name : names) {
-      if (fs::path(name).has_parent_path())
-        throw Error(
-            fmt::format("{}/{}: layer '{}' must be a file in the folder", where, kManifest, name));
-      Image layer = read_image((folder / name).string(), false);
-      if (layer.width() != set.atlas.width || layer.height() != set.atlas.height)
-        throw Error(fmt::format("{}/{}: {}x{}, but the atlas is {}x{}", where, name, layer.width(),
-                                layer.height(), set.atlas.width, set.atlas.height));
-      for (float v : layer.data())
-        if (!std::isfinite(v))
-          throw Error(fmt::format("{}/{}: holds NaN or infinite values", where, name));
-      set.layers.push_back(std::move(layer));
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(fmt::format("{}/{}: {}", where, kManifest, e.what()));
+  if (manifest.string("format") != "illum-lightmap" ||
+      manifest.unsigned_integer("version", 1u << 30) != kVersion)
+    manifest.fail(fmt::format("not an illum-lightmap version {} manifest", kVersion));
+  set.basis = manifest.string("basis");
+  if (set.basis != "plain" && set.basis != "rnm" && set.basis != "sh")
+    manifest.fail(fmt::format("unknown basis '{}' (plain, rnm or sh)", set.basis));
+  const int expected = lightmap_layer_count(set.basis);
+  set.content = manifest.string("content");
+  if (set.content != "all" && set.content != "indirect")
+    manifest.fail(fmt::format("unknown content '{}' (all or indirect)", set.content));
+  if (manifest.json().contains("scene")) set.scene = manifest.string("scene");
+  set.scene_triangles = manifest.unsigned_integer("scene_triangles", uint64_t{1} << 40);
+  if (manifest.json().contains("bake")) set.bake = manifest.at("bake");
+  const nlohmann::json& layers = manifest.at("layers");
+  if (!layers.is_array()) manifest.fail("'layers' must be a list of file names");
+  if (static_cast<int>(layers.size()) != expected)
+    manifest.fail(fmt::format("basis '{}' needs {} layers, the manifest lists {}", set.basis,
+                              expected, layers.size()));
+  std::vector<std::string> names;
+  for (const nlohmann::json& layer : layers) names.push_back(manifest.file_name("layers", layer));
+  set.atlas = load_atlas(folder / manifest.file_name("atlas", manifest.at("atlas")));
+  // The recorded size and chart count must be the atlas's: a manifest beside another
+  // folder's atlas.bin is refused, not shown with the wrong coordinates.
+  if (manifest.unsigned_integer("width", 1u << 30) != uint64_t(set.atlas.width) ||
+      manifest.unsigned_integer("height", 1u << 30) != uint64_t(set.atlas.height) ||
+      manifest.unsigned_integer("charts", 1u << 30) != uint64_t(set.atlas.chart_count))
+    manifest.fail(fmt::format("its size and chart count do not match the atlas ({}x{}, {} charts)",
+                              set.atlas.width, set.atlas.height, set.atlas.chart_count));
+  for (const std::string& name : names) {
+    // The reader refuses malformed, oversized and non-finite (NaN/Inf) files, naming them.
+    Image layer = read_image((folder / name).string(), false);
+    if (layer.width() != set.atlas.width || layer.height() != set.atlas.height)
+      throw Error(fmt::format("{}/{}: {}x{}, but the atlas is {}x{}", where, name, layer.width(),
+                              layer.height(), set.atlas.width, set.atlas.height));
+    if (layer.channels() != 3)
+      throw Error(fmt::format("{}/{}: {} channels, but light-map layers are RGB", where, name,
+                              layer.channels()));
+    set.layers.push_back(std::move(layer));
   }
   return set;
 }

@@ -7,15 +7,12 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <memory>
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
-#include <stb_image.h>
 #include <stb_image_write.h>
 
 namespace illum {
@@ -76,111 +73,6 @@ ImageFormat image_format_from_path(const std::string& path) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Reading
-
-namespace {
-
-struct StbFree {
-  void operator()(void* p) const { stbi_image_free(p); }
-};
-
-const char* stb_reason() {
-  const char* reason = stbi_failure_reason();
-  return reason ? reason : "unknown error";
-}
-
-// 8-bit channels that carry colour (not alpha) are sRGB-decoded.
-bool is_colour_channel(int c, int channels) {
-  return !((channels == 2 || channels == 4) && c == channels - 1);
-}
-
-Image read_stb_ldr(const std::string& path, bool srgb) {
-  int w = 0, h = 0, n = 0;
-  const bool sixteen = stbi_is_16_bit(path.c_str()) != 0;
-  std::unique_ptr<void, StbFree> pixels(
-      sixteen ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &n, 0))
-              : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &n, 0)));
-  if (!pixels) throw Error(fmt::format("{}: cannot read image ({})", path, stb_reason()));
-  Image image(w, h, n);
-  const float scale = sixteen ? 1.0f / 65535.0f : 1.0f / 255.0f;
-  auto& data = image.data();
-  for (size_t i = 0; i < data.size(); ++i) {
-    const float v = static_cast<float>(sixteen ? static_cast<const uint16_t*>(pixels.get())[i]
-                                               : static_cast<const uint8_t*>(pixels.get())[i]) *
-                    scale;
-    data[i] = srgb && is_colour_channel(static_cast<int>(i % static_cast<size_t>(n)), n)
-                  ? srgb_decode(v)
-                  : v;
-  }
-  return image;
-}
-
-Image read_stb_hdr(const std::string& path) {
-  if (!stbi_is_hdr(path.c_str())) throw Error(fmt::format("{}: not a Radiance HDR file", path));
-  int w = 0, h = 0, n = 0;
-  std::unique_ptr<float, StbFree> pixels(stbi_loadf(path.c_str(), &w, &h, &n, 0));
-  if (!pixels) throw Error(fmt::format("{}: cannot read image ({})", path, stb_reason()));
-  Image image(w, h, n);
-  std::copy_n(pixels.get(), image.data().size(), image.data().begin());
-  return image;
-}
-
-Image read_exr(const std::string& path) {
-  Imf::InputFile file(path.c_str());
-  const Imf::Header& header = file.header();
-  const Imath::Box2i dw = header.dataWindow();
-  const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-  const Imf::ChannelList& list = header.channels();
-  auto has = [&](const char* name) { return list.findChannel(name) != nullptr; };
-  std::vector<std::string> names;
-  if (has("R") && has("G") && has("B")) {
-    names = {"R", "G", "B"};
-  } else if (has("Y")) {
-    names = {"Y"};
-  } else if (list.begin() != list.end()) {
-    names = {list.begin().name()};  // some single named channel (depth, mask): read as grey
-  } else {
-    throw Error(fmt::format("{}: EXR file has no channels", path));
-  }
-  if (has("A")) names.emplace_back("A");
-  const int channels = static_cast<int>(names.size());
-  Image image(w, h, channels);
-  Imf::FrameBuffer fb;
-  const size_t x_stride = sizeof(float) * static_cast<size_t>(channels);
-  for (int c = 0; c < channels; ++c)
-    fb.insert(names[static_cast<size_t>(c)],
-              Imf::Slice::Make(Imf::FLOAT, image.data().data() + c, dw, x_stride,
-                               x_stride * static_cast<size_t>(w)));
-  file.setFrameBuffer(fb);
-  file.readPixels(dw.min.y, dw.max.y);
-  return image;
-}
-
-}  // namespace
-
-Image read_image(const std::string& path, bool srgb) {
-  const ImageFormat format = image_format_from_path(path);
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error(fmt::format("{}: no such image file", path));
-  try {
-    switch (format) {
-      case ImageFormat::kPng:
-      case ImageFormat::kJpeg:
-        return read_stb_ldr(path, srgb);
-      case ImageFormat::kHdr:
-        return read_stb_hdr(path);
-      case ImageFormat::kExr:
-        return read_exr(path);
-    }
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw Error(fmt::format("{}: cannot read image ({})", path, e.what()));
-  }
-  throw Error(fmt::format("{}: cannot read image", path));
-}
-
-// ---------------------------------------------------------------------------------------
 // Writing
 
 namespace {
@@ -190,7 +82,7 @@ void write_stb_ldr(const std::string& tmp, ImageFormat format, const Image& imag
   const int n = image.channels();
   std::vector<uint8_t> bytes(image.data().size());
   for (size_t i = 0; i < bytes.size(); ++i) {
-    const bool colour = is_colour_channel(static_cast<int>(i % static_cast<size_t>(n)), n);
+    const bool colour = !is_alpha_channel(static_cast<int>(i % static_cast<size_t>(n)), n);
     float v = image.data()[i];
     if (colour) v *= options.exposure;
     if (!(v >= 0.0f)) v = 0.0f;  // also maps NaN to black

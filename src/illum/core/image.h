@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,11 @@ class Image {
   std::vector<float> data_;
 };
 
+// Alpha is the last channel of 2- and 4-channel images; it is never sRGB-encoded.
+inline bool is_alpha_channel(int c, int channels) {
+  return (channels == 2 || channels == 4) && c == channels - 1;
+}
+
 enum class ImageFormat { kPng, kJpeg, kHdr, kExr };
 
 // The format implied by a file name's extension (.png .jpg .jpeg .hdr .exr, any case);
@@ -53,10 +59,23 @@ struct ImageWriteOptions {
   int jpeg_quality = 95;
 };
 
+// What an image file may declare before illum refuses it (the reader checks these, and each
+// format's declared size against the bytes that hold it, before any decoder allocates; rules
+// and reasons in src/illum/core/README.md). 2^28 pixels is a 16384² image (4 GiB as float
+// RGBA), twice a 16k × 8k environment map.
+inline constexpr int64_t kMaxDecodedImageSide = int64_t{1} << 16;
+inline constexpr int64_t kMaxDecodedImagePixels = int64_t{1} << 28;
+
 // Reads any supported format. 8-bit files are decoded to linear when `srgb` is true
-// (colour textures), kept as value/255 otherwise (normal, roughness maps). Throws Error
-// naming the path on a missing or unreadable file.
+// (colour textures), kept as value/255 otherwise (normal, roughness maps). The format is
+// taken from the file's first bytes (the extension must still be one of the four). Throws
+// Error naming the path on a missing, truncated, malformed or oversized file, and on a NaN or
+// infinite value in a float (HDR/EXR) image (naming the texel).
 Image read_image(const std::string& path, bool srgb = true);
+
+// The same decoder over bytes in memory (images embedded in a glTF/GLB); `name` is what
+// messages call the image ("scene.glb: images[2]"). Same checks and errors as read_image.
+Image decode_image(std::span<const uint8_t> bytes, const std::string& name, bool srgb = true);
 
 // Writes to `path` through a temporary file in the same folder and renames on success,
 // so a failed write leaves no partial file. Throws Error naming the path (e.g. missing

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <span>
 
 #include <tiny_gltf.h>
 #include <glm/gtc/quaternion.hpp>
@@ -61,14 +62,16 @@ const json* json_element(const json* a, size_t i) {
 class GltfReader {
  public:
   GltfReader(const std::string& path, const tinygltf::Model& model, const GltfStructure& source,
-             Scene& scene, const LoadOptions& options)
+             Scene& scene, const LoadOptions& options,
+             const std::map<int, std::vector<uint8_t>>& image_bytes)
       : path_(path),
         model_(model),
         doc_(source.json),
         scene_(scene),
         options_(options),
         input_bytes_(source.input_bytes),
-        budget_left_(kDecodeExpansion * source.input_bytes + kDecodeAllowanceBytes) {}
+        budget_left_(kDecodeExpansion * source.input_bytes + kDecodeAllowanceBytes),
+        image_bytes_(image_bytes) {}
 
   void read() {
     check_cameras();
@@ -241,7 +244,10 @@ class GltfReader {
   }
 
   // One illum texture per (glTF texture, encoding): base colour and emission are sRGB,
-  // normal and metallic-roughness maps linear.
+  // normal and metallic-roughness maps linear. Every image goes through illum's own checked
+  // decoder (core/image.h): embedded (data: URI, GLB bufferView) or external. A missing or
+  // undecodable image is an error naming it and the material (missing_texture: a warning
+  // with allow_missing_textures); a bufferView past its buffer is a malformed file.
   int texture(int gltf_texture, bool srgb, const std::string& material) {
     if (!options_.load_textures || gltf_texture < 0) return kNoTexture;
     if (static_cast<size_t>(gltf_texture) >= model_.textures.size())
@@ -251,38 +257,56 @@ class GltfReader {
     const auto key = std::make_pair(source, srgb);
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
     int id = kNoTexture;
-    if (source >= 0 && static_cast<size_t>(source) < model_.images.size()) {
+    if (source < 0) {
+      // The image is in an extension illum does not read (KHR_texture_basisu, EXT_texture_webp).
+      missing_texture(scene_, options_,
+                      fmt::format("{}: texture {} of material '{}' has no PNG or JPEG source",
+                                  path_, gltf_texture, material));
+    } else if (static_cast<size_t>(source) >= model_.images.size()) {
+      fail(
+          fmt::format("texture {} refers to image {}, which does not exist", gltf_texture, source));
+    } else {
       const tinygltf::Image& img = model_.images[source];
-      const std::string where = img.uri.empty() || img.uri.rfind("data:", 0) == 0
-                                    ? fmt::format("images[{}]", source)
-                                    : join_path(parent_dir(path_), img.uri);
-      if (img.image.empty() || img.width <= 0 || img.height <= 0 ||
-          (img.bits != 8 && img.bits != 16)) {
-        add_warning(scene_, fmt::format("{}: texture '{}' of material '{}' could not be loaded; "
-                                        "using none",
-                                        path_, where, material));
+      const bool external =
+          img.bufferView < 0 && !img.uri.empty() && img.uri.rfind("data:", 0) != 0;
+      const std::string name = external ? join_path(parent_dir(path_), img.uri)
+                                        : fmt::format("{}: images[{}]", path_, source);
+      std::span<const uint8_t> bytes;
+      if (img.bufferView >= 0) {
+        // tinygltf hands over bufferView images without checking the view against its buffer.
+        if (static_cast<size_t>(img.bufferView) >= model_.bufferViews.size())
+          fail(fmt::format("images[{}] refers to bufferView {}, which does not exist", source,
+                           img.bufferView));
+        const tinygltf::BufferView& view = model_.bufferViews[img.bufferView];
+        if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model_.buffers.size() ||
+            view.byteOffset > model_.buffers[view.buffer].data.size() ||
+            view.byteLength > model_.buffers[view.buffer].data.size() - view.byteOffset)
+          fail(
+              fmt::format("images[{}]: bufferView {} ({} bytes at offset {}) lies outside its "
+                          "buffer",
+                          source, img.bufferView, view.byteLength, view.byteOffset));
+        bytes = std::span<const uint8_t>(model_.buffers[view.buffer].data.data() + view.byteOffset,
+                                         view.byteLength);
+      } else if (auto it = image_bytes_.find(source); it != image_bytes_.end()) {
+        bytes = it->second;
+      }
+      if (bytes.empty() && external && !file_exists(name)) {
+        missing_texture(
+            scene_, options_,
+            fmt::format("{}: texture '{}' of material '{}' not found", path_, name, material));
       } else {
-        Texture tex;
-        tex.path = where;
-        tex.srgb = srgb;
-        const int ch = std::clamp(img.component, 1, 4);
-        tex.image = Image(img.width, img.height, ch);
-        const size_t n = static_cast<size_t>(img.width) * img.height * ch;
-        for (size_t i = 0; i < n; ++i) {
-          float v;
-          if (img.bits == 8) {
-            v = img.image[i] / 255.0f;
-          } else {
-            uint16_t s;
-            std::memcpy(&s, &img.image[2 * i], 2);
-            v = s / 65535.0f;
-          }
-          // Alpha is always linear.
-          const bool is_alpha = (ch == 4 && i % 4 == 3) || (ch == 2 && i % 2 == 1);
-          tex.image.data()[i] = srgb && !is_alpha ? srgb_decode(v) : v;
+        try {
+          Texture tex;
+          tex.path = name;
+          tex.srgb = srgb;
+          tex.image = decode_image(bytes, name, srgb);  // an empty file is an error there
+          id = static_cast<int>(scene_.textures.size());
+          scene_.textures.push_back(std::move(tex));
+        } catch (const Error& e) {
+          missing_texture(
+              scene_, options_,
+              fmt::format("{}: texture of material '{}': {}", path_, material, e.what()));
         }
-        id = static_cast<int>(scene_.textures.size());
-        scene_.textures.push_back(std::move(tex));
       }
     }
     textures_[key] = id;
@@ -735,12 +759,27 @@ class GltfReader {
   const uint64_t input_bytes_;
   uint64_t budget_left_;
   std::map<std::pair<int, bool>, int> textures_;
+  // Encoded bytes of the images tinygltf read from data: URIs and files (keep_image_bytes).
+  const std::map<int, std::vector<uint8_t>>& image_bytes_;
   std::vector<std::vector<int>> mesh_primitives_;  // glTF mesh → illum meshes
   int default_material_ = -1;
 };
 
 bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                 const unsigned char*, int, void*) {
+  return true;
+}
+
+// tinygltf's image hook: instead of its own stb decoding (which allocates whatever size an
+// image declares), keep the encoded bytes of data: URIs and external files for
+// GltfReader::texture, which decodes them with illum's checked decoder. BufferView images
+// are read from their buffer there, after their range is checked (tinygltf passes a pointer
+// it has not checked, so it is not read here).
+bool keep_image_bytes(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void* user) {
+  if (image->bufferView >= 0 || bytes == nullptr || size <= 0) return true;
+  auto& kept = *static_cast<std::map<int, std::vector<uint8_t>>*>(user);
+  kept[index].assign(bytes, bytes + size);
   return true;
 }
 
@@ -752,7 +791,11 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   const GltfStructure structure = check_gltf_structure(path);
 
   tinygltf::TinyGLTF loader;
-  if (!options.load_textures) loader.SetImageLoader(skip_image, nullptr);
+  std::map<int, std::vector<uint8_t>> image_bytes;
+  if (options.load_textures)
+    loader.SetImageLoader(keep_image_bytes, &image_bytes);
+  else
+    loader.SetImageLoader(skip_image, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
@@ -777,11 +820,12 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
     const std::string line = warn.substr(start, end - start);
     start = end + 1;
     if (line.empty() || line.find("image") != std::string::npos ||
-        line.rfind("File not found", 0) == 0)
+        line.rfind("File not found", 0) == 0 || line.rfind("File is empty", 0) == 0 ||
+        line.rfind("File read error", 0) == 0)
       continue;
     add_warning(scene, fmt::format("{}: {}", path, line));
   }
-  GltfReader(path, model, structure, scene, options).read();
+  GltfReader(path, model, structure, scene, options, image_bytes).read();
   if (scene.materials.empty()) {
     Material m;
     m.name = "default";

@@ -265,21 +265,32 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
     Environment env;
     if (e.has("file") == e.has("constant"))
       throw Error(fmt::format("{}: give exactly one of 'file' or 'constant'", e.where("file")));
+    bool have_map = true;
     if (e.has("file")) {
       env.path = join_path(dir, e.get<std::string>("file"));
-      if (!file_exists(env.path))
-        throw Error(fmt::format("{}: cannot open environment map '{}'", e.where("file"), env.path));
-      env.radiance = read_image(env.path, /*srgb=*/false);
-      // Importance sampling builds a distribution from these values: a NaN, infinite or
-      // negative texel is bad input here, not a crash later.
+      if (!file_exists(env.path)) {
+        missing_texture(
+            scene, options,
+            fmt::format("{}: environment map '{}' not found", e.where("file"), env.path));
+        have_map = false;
+      } else {
+        try {
+          // The reader refuses NaN and infinite texels (naming the texel).
+          env.radiance = read_image(env.path, /*srgb=*/false);
+        } catch (const Error& error) {
+          missing_texture(scene, options,
+                          fmt::format("{}: environment map: {}", e.where("file"), error.what()));
+          have_map = false;
+        }
+      }
+      // Importance sampling builds a distribution from these values: a negative texel is bad
+      // input here, not a crash later.
       for (size_t i = 0; i < env.radiance.data().size(); ++i) {
-        const float v = env.radiance.data()[i];
-        if (!std::isfinite(v) || v < 0.0f) {
+        if (env.radiance.data()[i] < 0.0f) {
           const size_t texel = i / static_cast<size_t>(env.radiance.channels());
-          throw Error(fmt::format(
-              "{}: environment map '{}' has a non-finite or negative value at texel ({}, {})",
-              e.where("file"), env.path, texel % env.radiance.width(),
-              texel / env.radiance.width()));
+          throw Error(fmt::format("{}: environment map '{}' has a negative value at texel ({}, {})",
+                                  e.where("file"), env.path, texel % env.radiance.width(),
+                                  texel / env.radiance.width()));
         }
       }
     } else {
@@ -287,11 +298,13 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
     }
     env.scale = e.get_float_in("scale", 1.0f, 0.0f, 1e30f);
     env.rotation_y = radians(e.get<float>("rotation_deg", 0.0f));
-    scene.environment = std::move(env);
-    Light light;
-    light.name = "environment";
-    light.type = LightType::kEnvironment;
-    scene.lights.push_back(light);
+    if (have_map) {  // without its map (allowed missing) the scene has no environment
+      scene.environment = std::move(env);
+      Light light;
+      light.name = "environment";
+      light.type = LightType::kEnvironment;
+      scene.lights.push_back(light);
+    }
   }
 
   if (root.has("camera")) {

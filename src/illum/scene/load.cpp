@@ -43,14 +43,20 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+void missing_texture(Scene& scene, const LoadOptions& options, const std::string& message) {
+  if (!options.allow_missing_textures) throw Error(message);
+  add_warning(scene, message + "; going on without it (--allow-missing-textures)");
+}
+
 int TextureCache::get(const std::string& path, bool srgb, const std::string& user) {
   if (!options_.load_textures) return kNoTexture;
   const auto key = std::make_pair(path, srgb);
   if (auto it = ids_.find(key); it != ids_.end()) return it->second;
   int id = kNoTexture;
   if (!file_exists(path)) {
-    add_warning(scene_, fmt::format("{}: texture '{}' of material '{}' not found; using none",
-                                    origin_, path, user));
+    missing_texture(
+        scene_, options_,
+        fmt::format("{}: texture '{}' of material '{}' not found", origin_, path, user));
   } else {
     try {
       Texture tex;
@@ -60,8 +66,9 @@ int TextureCache::get(const std::string& path, bool srgb, const std::string& use
       id = static_cast<int>(scene_.textures.size());
       scene_.textures.push_back(std::move(tex));
     } catch (const Error& e) {
-      add_warning(scene_, fmt::format("{}: texture of material '{}' unreadable ({}); using none",
-                                      origin_, user, e.what()));
+      // e names the texture file and what is wrong with it.
+      missing_texture(scene_, options_,
+                      fmt::format("{}: texture of material '{}': {}", origin_, user, e.what()));
     }
   }
   ids_[key] = id;

@@ -16,9 +16,13 @@ Scene load_obj(const std::string& path, const LoadOptions& options);
 Scene load_gltf(const std::string& path, const LoadOptions& options);
 Scene load_illum_json(const std::string& path, const LoadOptions& options);
 
+// A texture, material file or environment map that is missing or cannot be read: throws
+// Error(message) (the message names the file and, for textures, the material), or with
+// LoadOptions::allow_missing_textures adds it as one warning and the scene goes on without.
+void missing_texture(Scene& scene, const LoadOptions& options, const std::string& message);
+
 // Loads image files into Scene::textures once per (path, encoding). A missing or unreadable
-// file becomes one warning in the scene and kNoTexture, never an error: a scene without a
-// texture is still worth rendering.
+// file goes through missing_texture (an error, or one warning and kNoTexture).
 class TextureCache {
  public:
   TextureCache(Scene& scene, const LoadOptions& options, std::string origin)
