@@ -386,11 +386,13 @@ TEST(GltfTextureErrors, EmbeddedImagesGoThroughTheCheckedDecoder) {
       write_glb(dir, textured_triangle({{"bufferView", 1}, {"mimeType", "image/png"}}),
                 png_declaring(16000, 16000));
   EXPECT_NAMES(load_error(glb), glb, "images[0]", "'painted'", "deflate");
-  // A bufferView reaching past its buffer is a malformed file (never an allowed warning).
+  // A bufferView reaching past its buffer is a malformed file (never an allowed warning),
+  // refused by the structure check before tinygltf reads the image.
   const std::string past =
       write_glb(dir, textured_triangle({{"bufferView", 1}, {"mimeType", "image/png"}}),
                 png_declaring(4, 4), 60, 4096);
-  EXPECT_NAMES(load_error(past, allowing_missing()), past, "images[0]", "outside its buffer");
+  EXPECT_NAMES(load_error(past, allowing_missing()), past, "bufferViews[1]",
+               "runs past the end of buffers[0]");
   // A real embedded PNG still decodes.
   Image img(3, 2, 3, 0.25f);
   write_image(dir.file("small.png"), img);

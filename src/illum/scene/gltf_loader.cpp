@@ -273,18 +273,17 @@ class GltfReader {
                                         : fmt::format("{}: images[{}]", path_, source);
       std::span<const uint8_t> bytes;
       if (img.bufferView >= 0) {
-        // tinygltf hands over bufferView images without checking the view against its buffer.
-        if (static_cast<size_t>(img.bufferView) >= model_.bufferViews.size())
-          fail(fmt::format("images[{}] refers to bufferView {}, which does not exist", source,
-                           img.bufferView));
+        // gltf_structure.cpp has checked every image's bufferView against its buffer before
+        // tinygltf ran (tinygltf itself hands bufferView images over unchecked).
+        ILLUM_CHECK(static_cast<size_t>(img.bufferView) < model_.bufferViews.size(),
+                    "images[{}]: bufferView {} passed the structure check", source, img.bufferView);
         const tinygltf::BufferView& view = model_.bufferViews[img.bufferView];
-        if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model_.buffers.size() ||
-            view.byteOffset > model_.buffers[view.buffer].data.size() ||
-            view.byteLength > model_.buffers[view.buffer].data.size() - view.byteOffset)
-          fail(
-              fmt::format("images[{}]: bufferView {} ({} bytes at offset {}) lies outside its "
-                          "buffer",
-                          source, img.bufferView, view.byteLength, view.byteOffset));
+        ILLUM_CHECK(
+            view.buffer >= 0 && static_cast<size_t>(view.buffer) < model_.buffers.size() &&
+                view.byteOffset <= model_.buffers[view.buffer].data.size() &&
+                view.byteLength <= model_.buffers[view.buffer].data.size() - view.byteOffset,
+            "images[{}]: bufferView {} outside its buffer passed the structure check", source,
+            img.bufferView);
         bytes = std::span<const uint8_t>(model_.buffers[view.buffer].data.data() + view.byteOffset,
                                          view.byteLength);
       } else if (auto it = image_bytes_.find(source); it != image_bytes_.end()) {
