@@ -280,6 +280,19 @@ TEST_F(ImageErrors, JpegScanCountIsBounded) {
   EXPECT_MESSAGE(decode_error(many, "scans.jpg"), "scans.jpg", "more than 256 scans");
 }
 
+TEST_F(ImageErrors, JpegHuffmanTablesAreChecked) {
+  // Debian's stb writes the symbols of a Huffman table into 256 entries without counting
+  // them (fuzz/regressions/image/jpeg-dht-*): a table declaring more is refused first.
+  Bytes b = small_jpeg(path("a.jpg"));
+  const size_t dht = find(b, "\xff\xc4");
+  ASSERT_EQ(b[dht + 4], 0x00);                            // the first table: DC, id 0
+  for (size_t i = 0; i < 16; ++i) b[dht + 5 + i] = 0x40;  // 16 × 64 = 1024 codes
+  EXPECT_MESSAGE(decode_error(b, "dht.jpg"), "dht.jpg", "declares 1024 codes");
+  Bytes bad_class = small_jpeg(path("a.jpg"));
+  bad_class[dht + 4] = 0x24;  // class 2
+  EXPECT_MESSAGE(decode_error(bad_class, "class.jpg"), "class.jpg", "class 2 and id 4");
+}
+
 TEST_F(ImageErrors, JpegCodingOtherThanHuffmanIsRefused) {
   Bytes b = small_jpeg(path("a.jpg"));
   b[find(b, "\xff\xc0\x00\x11\x08") + 1] = 0xc9;  // arithmetic coding

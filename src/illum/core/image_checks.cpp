@@ -183,6 +183,30 @@ PngInfo check_png(std::span<const uint8_t> bytes, const std::string& name) {
 // ---------------------------------------------------------------------------------------
 // JPEG: markers from SOI to EOI, the frame header, and the entropy-coded bytes of each scan.
 
+// A DHT segment holds tables of 1 + 16 + n bytes, n the sum of the 16 code-length counts.
+// Debian's stb copies the n symbols into a 256-entry array and fills a 257-entry code-size
+// list without checking n (stb_image.h stbi__build_huffman), so n > 256 writes past both.
+void check_jpeg_huffman_tables(Cursor& c, size_t segment_end) {
+  while (c.pos() < segment_end) {
+    const size_t at = c.pos();
+    if (segment_end - at < 17)
+      c.fail(fmt::format("malformed JPEG: Huffman table at offset {} is cut short", at));
+    const uint8_t cls_id = c.u8("a Huffman table");
+    if ((cls_id >> 4) > 1 || (cls_id & 15) > 3)
+      c.fail(fmt::format("malformed JPEG: Huffman table at offset {} has class {} and id {}", at,
+                         cls_id >> 4, cls_id & 15));
+    size_t symbols = 0;
+    for (int i = 0; i < 16; ++i) symbols += c.u8("a Huffman table");
+    if (symbols > 256)
+      c.fail(
+          fmt::format("malformed JPEG: Huffman table at offset {} declares {} codes (at most 256)",
+                      at, symbols));
+    if (symbols > segment_end - c.pos())
+      c.fail(fmt::format("malformed JPEG: Huffman table at offset {} runs past its segment", at));
+    c.skip(symbols, "a Huffman table");
+  }
+}
+
 JpegInfo check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
   Cursor c(bytes, name);
   c.skip(2, "the start-of-image marker");
@@ -220,6 +244,7 @@ JpegInfo check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
       check_dimensions(c, info.width, info.height);
       have_frame = true;
     }
+    if (marker == 0xc4) check_jpeg_huffman_tables(c, segment_end);
     c.seek(segment_end);
     if (marker != 0xda) continue;  // SOS: the entropy-coded data follows its header
     if (!have_frame) c.fail("malformed JPEG: a scan before the frame header");
