@@ -81,6 +81,7 @@ void run_bake(const BakeArgs& args) {
       atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
   const double raster_s = seconds_since(t0);
 
+  log::release();  // the input is checked: the load's warnings may show now
   bake::LightmapBake baked = bake::bake_lightmap(scene, tracer, raster, bake_options);
 
   set.basis = bake::to_string(baked.basis);

@@ -85,6 +85,7 @@ void run_frame(const FrameArgs& args) {
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   realtime::Renderer renderer(context, scene, options);
   if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
+  log::release();  // the input is checked: the load's warnings may show now
 
   std::map<std::string, std::vector<double>> pass_ms;
   std::vector<std::string> order;

@@ -79,6 +79,7 @@ void run_render(const RenderArgs& args) {
   Params params = integrator_params(args);
   auto integrator = Integrator::create(args.integrator, params);
   params.check_all_used();  // a --param the integrator did not read is a typo
+  log::release();           // the input is checked: the load's warnings may show now
 
   ThreadLimit limit(args.threads);
   const auto t0 = std::chrono::steady_clock::now();

@@ -13,9 +13,11 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "illum/core/log.h"
 #include "illum/gpu/context.h"
 #include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
+#include "illum/realtime/renderer_input.h"
 #include "illum/realtime/viewer.h"
 #include "illum/scene/load.h"
 #include "option_checks.h"
@@ -97,6 +99,9 @@ void run_view(const ViewArgs& args) {
   viewer.seconds = args.seconds;
   viewer.screenshot = args.screenshot;
   Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  realtime::check_renderer_options(options);
+  realtime::check_realtime_input(scene, options);
+  log::release();  // the input is checked: the load's warnings may show now
   if (!realtime::run_viewer(scene, options, viewer, &camera, &reason)) {
     std::fprintf(stderr,
                  "illum view: no window available (%s); rendering one frame headless to %s\n",

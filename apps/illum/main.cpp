@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
   illum::cli::refuse_empty_values(app);
 
   illum::install_interrupt_handler();
+  // Warnings wait until a command has checked its input and starts its work
+  // (log::release() there): a run refused for bad input prints only its one error line.
+  illum::log::hold();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -110,23 +113,30 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const illum::Interrupted&) {
+    illum::log::discard();
     std::fprintf(stderr, "illum: interrupted; nothing was written\n");
     return 130;
   } catch (const CLI::ParseError& e) {
+    illum::log::discard();
     std::fprintf(stderr, "illum: error: %s (see 'illum --help')\n", e.what());
     return 2;
   } catch (const illum::Error& e) {
+    illum::log::discard();
     std::fprintf(stderr, "illum: error: %s\n", e.what());
     return 2;
   } catch (const illum::InternalError& e) {
+    illum::log::release();  // a bug: everything that led to it helps the report
     std::fprintf(stderr, "illum: %s — please report this bug\n", e.what());
     return 3;
   } catch (const std::bad_alloc&) {
+    illum::log::discard();
     std::fprintf(stderr, "illum: error: out of memory\n");
     return 2;
   } catch (const std::exception& e) {
+    illum::log::release();
     std::fprintf(stderr, "illum: error: %s\n", e.what());
     return 1;
   }
+  illum::log::release();
   return 0;
 }

@@ -116,6 +116,29 @@ TEST_F(CliSceneErrors, OneLineEvenAfterWarnings) {
   expect_refused(write_asset("warned.gltf", a), "singular transform");
 }
 
+// The load succeeds with a warning and a later check refuses the run: still one line (the
+// CLI holds the log until the command has checked its input), while a run that goes on
+// prints the warning.
+TEST_F(CliSceneErrors, OneLineWhenARefusalFollowsASuccessfulLoad) {
+  const std::string warned = write_asset("warned.gltf", illum::test::make_asset()).string();
+  const std::string out = (dir_ / "x.png").string();
+  const std::string tiny = " --width 4 --height 4 --spp 1 -o " + out;
+  const Result bad_param = run("render " + warned + " -i path -p no_such_key=1" + tiny);
+  expect_bad_input(bad_param, "no_such_key");
+  EXPECT_EQ(bad_param.err.find("mode 0"), std::string::npos) << bad_param.err;
+#ifdef ILLUM_HAVE_GPU
+  // The real-time renderer refuses a light index the scene does not have (after the load).
+  const Result bad_light =
+      run("frame " + warned + " -p single_light=99 --width 4 --height 4 -o " + out);
+  expect_bad_input(bad_light, "single_light");
+  EXPECT_EQ(bad_light.err.find("mode 0"), std::string::npos) << bad_light.err;
+#endif
+  EXPECT_FALSE(fs::exists(out));
+  const Result ok = run("render " + warned + " -i ao" + tiny);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.err.find("mode 0"), std::string::npos) << ok.err;
+}
+
 TEST_F(CliSceneErrors, MtlValuesUnderTheSharedRules) {
   write("neg.mtl", "newmtl wood\nKd -0.5 0.4 0.3\n");
   expect_refused(write("neg.obj", std::string("mtllib neg.mtl\nusemtl wood\n") + kTriangleObj),

@@ -11,6 +11,14 @@ namespace illum::log {
 enum class Level { kDebug, kInfo, kWarn, kError, kOff };
 void set_level(Level level);
 
+// While the log is held, messages wait in order instead of reaching stderr; release() prints
+// them and lets later ones through, discard() drops them (returning how many). The CLI holds
+// the log while it checks its input, so a run refused for bad input prints exactly its one
+// error line even when loading the scene warned first.
+void hold();
+void release();
+size_t discard();
+
 // illum's logger, created on first use. (A static initializer in log.cpp would be dropped
 // from programs that reference nothing else in it, which then printed spdlog's default
 // format.)
