@@ -120,9 +120,15 @@ TEST_F(LightmapFolder, ManifestTypesAndValuesAreChecked) {
   EXPECT_TRUE(contains(error(), "must be a JSON object"));
   write_manifest_text(R"({"format": "illum-lightmap", "version": )");
   EXPECT_TRUE(contains(error(), "malformed JSON"));
-  // Deep nesting is parsed and freed without recursion (nlohmann 3.11): no stack overflow.
+  // Deep nesting is refused before parsing, like any JSON a user hands in: the manifest's
+  // "bake" object is copied into the set, and nlohmann copies recursively.
   write_manifest_text(std::string(200000, '[') + std::string(200000, ']'));
-  EXPECT_TRUE(contains(error(), "must be a JSON object"));
+  EXPECT_TRUE(contains(error(), "nested deeper than 128 levels"));
+  std::string deep_bake = manifest_.dump();
+  deep_bake.insert(deep_bake.size() - 1, R"(, "bake": {"x": )" + std::string(100000, '[') +
+                                             std::string(100000, ']') + "}");
+  write_manifest_text(deep_bake);
+  EXPECT_TRUE(contains(error(), "nested deeper than 128 levels"));
 }
 
 TEST_F(LightmapFolder, LayersAreChecked) {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "illum/core/error.h"
+#include "illum/core/json_input.h"
 #include "illum/core/tonemap.h"
 
 namespace illum::atlas {
@@ -188,15 +189,11 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
   if (!fs::is_directory(folder, ec))
     throw Error(fmt::format("light-map folder '{}' does not exist", where));
   const std::string manifest_where = fmt::format("{}/{}", where, kManifest);
-  std::ifstream file(folder / kManifest);
-  if (!file) throw Error(fmt::format("{}: no {} (not a light-map folder)", where, kManifest));
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(file);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(fmt::format("{}: malformed JSON: {}", manifest_where, e.what()));
-  }
-  const Manifest manifest(std::move(json), manifest_where);
+  if (!fs::is_regular_file(folder / kManifest, ec))
+    throw Error(fmt::format("{}: no {} (not a light-map folder)", where, kManifest));
+  // Bounded nesting and every parser exception as an Error, like any JSON a user hands in
+  // (core/json_input.h): the manifest's "bake" object is copied, which recurses.
+  const Manifest manifest(read_json_file(manifest_where), manifest_where);
   LightmapSet set;
   if (manifest.string("format") != "illum-lightmap" ||
       manifest.unsigned_integer("version", 1u << 30) != kVersion)
