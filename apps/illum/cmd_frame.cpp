@@ -97,7 +97,8 @@ void run_frame(const FrameArgs& args) {
     for (const gpu::PassTime& t : renderer.pass_times()) {
       if (!pass_ms.count(t.name)) order.push_back(t.name);
       pass_ms[t.name].push_back(t.ms);
-      if (t.name.rfind("cpu:", 0) != 0) total += t.ms;  // CPU work is not GPU time
+      // CPU work is not GPU time, and nested scopes are inside their pass's.
+      if (t.name.rfind("cpu:", 0) != 0 && t.depth == 0) total += t.ms;
     }
     gpu_total.push_back(total);
     wall.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());

@@ -341,8 +341,9 @@ TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
       };
       const bool gpu = source == SilhouetteSource::kGpu;
       const std::string shading = technique == Technique::kForward ? "forward" : "gbuffer";
-      std::vector<std::string> steady = {shading, "stencil_volumes", "volume_lighting", "luminance",
-                                         "tonemap"};
+      // The per-light steps are scopes nested in the pass (depth 1).
+      std::vector<std::string> steady = {shading,           "shadow_volumes", "stencil_volumes",
+                                         "volume_lighting", "luminance",      "tonemap"};
       std::vector<std::string> rebuilt = steady;
       if (gpu)
         rebuilt.insert(rebuilt.begin(), "silhouettes");
@@ -353,6 +354,9 @@ TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
       auto expect = [&](const std::vector<std::string>& want) {
         if (context().timestamps()) {
           EXPECT_EQ(names(), want) << label;
+          for (const auto& t : renderer.pass_times())
+            EXPECT_EQ(t.depth, t.name == "stencil_volumes" || t.name == "volume_lighting" ? 1 : 0)
+                << label << " " << t.name;
         } else {
           const bool cpu_entry =
               std::find(want.begin(), want.end(), "cpu:silhouettes") != want.end();

@@ -486,7 +486,7 @@ struct Renderer::Impl {
   // Lights or the caster choice changed: rebuild the volumes (CPU) or extract them (GPU).
   void invalidate_volumes() {
     volumes_dirty = true;
-    graph.invalidate("silhouettes");
+    graph.notify(kParametersChanged, "renderer");
   }
 
   VkFormat shadow_format() const {
@@ -1220,105 +1220,60 @@ struct Renderer::Impl {
     vkCmdDispatch(c, tiles_x, tiles_y, 1);
   }
 
+  // Interim wiring (the technique interface replaces it): passes without declared
+  // resources, their own transitions, phases in today's order.
+  void add(const std::string& name, Phase phase, Schedule schedule,
+           std::function<void(VkCommandBuffer)> record, int nested = 0) {
+    PassDesc p;
+    p.name = name;
+    p.technique = "renderer";
+    p.phase = phase;
+    p.schedule = schedule;
+    p.nested_scopes = nested;
+    p.record = [record](PassContext& ctx) { record(ctx.cmd()); };
+    graph.add_pass(std::move(p));
+  }
+
+  Schedule shadow_schedule() const {
+    const int period = options.shadow_update_period;
+    const Changes changes = kLightsChanged | kParametersChanged;
+    return period > 0 ? Schedule::every_n(period, 0, changes) : Schedule::on_change(changes);
+  }
+
   void build_graph() {
-    graph.import_resource("scene");
-    graph.import_resource("camera");
-    graph.import_resource("lights");
     if (cascades)
-      graph.add_pass({"cascades",
-                      {"scene", "camera", "lights"},
-                      {"cascades"},
-                      UpdateSchedule::kEveryFrame,
-                      1,
-                      [this](VkCommandBuffer c) { record_cascades(c); }});
-    else
-      graph.import_resource("cascades");
-    if (shadow_cubes || spot_maps) {
-      PassDesc p{"shadow_maps",
-                 {"scene", "lights"},
-                 {"shadow_cubes"},
-                 UpdateSchedule::kOnChange,
-                 1,
-                 [this](VkCommandBuffer c) { record_shadow_maps(c); }};
-      if (options.shadow_update_period > 0) {
-        p.schedule = UpdateSchedule::kEveryN;
-        p.period = options.shadow_update_period;
-      }
-      graph.add_pass(std::move(p));
-    } else {
-      graph.import_resource("shadow_cubes");
-    }
-    if (stencil_shadows && stencil_shadows->source() == SilhouetteSource::kGpu) {
-      PassDesc p{"silhouettes",
-                 {"scene", "lights"},
-                 {"volumes"},
-                 UpdateSchedule::kOnChange,
-                 1,
-                 [this](VkCommandBuffer c) {
-                   stencil_shadows->record_extraction(c, lights, options.volume_back_faces);
-                 }};
-      if (options.shadow_update_period > 0) {
-        p.schedule = UpdateSchedule::kEveryN;
-        p.period = options.shadow_update_period;
-      }
-      graph.add_pass(std::move(p));
-    } else {
-      graph.import_resource("volumes");  // none, or built on the CPU before recording
-    }
+      add("cascades", Phase::kShadows, Schedule::every_frame(),
+          [this](VkCommandBuffer c) { record_cascades(c); });
+    if (shadow_cubes || spot_maps)
+      add("shadow_maps", Phase::kShadows, shadow_schedule(),
+          [this](VkCommandBuffer c) { record_shadow_maps(c); });
+    if (stencil_shadows && stencil_shadows->source() == SilhouetteSource::kGpu)
+      add("silhouettes", Phase::kShadows, shadow_schedule(), [this](VkCommandBuffer c) {
+        stencil_shadows->record_extraction(c, lights, options.volume_back_faces);
+      });
     if (g_albedo) {
-      graph.add_pass({"gbuffer",
-                      {"scene", "camera"},
-                      {"gbuffer", "hdr", "depth"},
-                      UpdateSchedule::kEveryFrame,
-                      1,
-                      [this](VkCommandBuffer c) { record_gbuffer(c); }});
+      add("gbuffer", Phase::kGeometry, Schedule::every_frame(),
+          [this](VkCommandBuffer c) { record_gbuffer(c); });
       // With stencil shadows the per-light volume lighting below takes its place.
       if (!volumes())
-        graph.add_pass({"lighting",
-                        {"gbuffer", "depth", "lights", "shadow_cubes", "cascades", "hdr"},
-                        {"hdr"},
-                        UpdateSchedule::kEveryFrame,
-                        1,
-                        [this](VkCommandBuffer c) { record_deferred_lighting(c); }});
+        add("lighting", Phase::kLighting, Schedule::every_frame(),
+            [this](VkCommandBuffer c) { record_deferred_lighting(c); });
     } else {
-      graph.add_pass({"forward",
-                      {"scene", "camera", "lights", "shadow_cubes", "cascades"},
-                      {"hdr", "depth"},
-                      UpdateSchedule::kEveryFrame,
-                      1,
-                      [this](VkCommandBuffer c) { record_forward(c); }});
+      add("forward", Phase::kGeometry, Schedule::every_frame(),
+          [this](VkCommandBuffer c) { record_forward(c); });
     }
-    if (stencil_shadows) {
-      std::vector<std::string> inputs = {"scene", "camera", "lights", "volumes", "hdr", "depth"};
-      if (g_albedo) inputs.push_back("gbuffer");
-      PassDesc p{"shadow_volumes",
-                 std::move(inputs),
-                 {"hdr"},
-                 UpdateSchedule::kEveryFrame,
-                 1,
-                 [this](VkCommandBuffer c) { record_volume_lighting(c); }};
-      p.self_timed = true;
-      graph.add_pass(std::move(p));
-    }
-    graph.add_pass({"luminance",
-                    {"hdr"},
-                    {"log_average"},
-                    UpdateSchedule::kEveryFrame,
-                    1,
-                    [this](VkCommandBuffer c) { record_luminance(c); }});
+    if (stencil_shadows)
+      add(
+          "shadow_volumes", Phase::kLighting, Schedule::every_frame(),
+          [this](VkCommandBuffer c) { record_volume_lighting(c); },
+          2 * static_cast<int>(lights.size()));
+    add("luminance", Phase::kPost, Schedule::every_frame(),
+        [this](VkCommandBuffer c) { record_luminance(c); });
     if (bloom_a)
-      graph.add_pass(
-          {"bloom", {"hdr"}, {"bloom"}, UpdateSchedule::kEveryFrame, 1, [this](VkCommandBuffer c) {
-             record_bloom(c);
-           }});
-    else
-      graph.import_resource("bloom");
-    graph.add_pass({"tonemap",
-                    {"hdr", "log_average", "bloom"},
-                    {"ldr"},
-                    UpdateSchedule::kEveryFrame,
-                    1,
-                    [this](VkCommandBuffer c) { record_tonemap(c); }});
+      add("bloom", Phase::kPost, Schedule::every_frame(),
+          [this](VkCommandBuffer c) { record_bloom(c); });
+    add("tonemap", Phase::kDisplay, Schedule::every_frame(),
+        [this](VkCommandBuffer c) { record_tonemap(c); });
     graph.compile();
   }
 
@@ -1383,6 +1338,7 @@ struct Renderer::Impl {
       silhouette_ms = stencil_shadows->build_on_cpu(lights, options.volume_back_faces);
       volumes_dirty = false;
     }
+    timer.reserve(graph.timer_scopes());
     ILLUM_VK(vkResetCommandBuffer(cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -1398,11 +1354,12 @@ struct Renderer::Impl {
     ILLUM_VK(vkQueueSubmit2(context.queue(), 1, &submit, fence));
     ILLUM_VK(vkWaitForFences(context.device(), 1, &fence, VK_TRUE, UINT64_MAX));
     ILLUM_VK(vkResetFences(context.device(), 1, &fence));
-    // Self-timed passes open one scope per light: report one sum per name.
+    // Per-light scopes nest inside their pass: report one sum per name and depth.
     times.clear();
     for (const gpu::PassTime& t : timer.resolve()) {
-      auto it = std::find_if(times.begin(), times.end(),
-                             [&](const gpu::PassTime& x) { return x.name == t.name; });
+      auto it = std::find_if(times.begin(), times.end(), [&](const gpu::PassTime& x) {
+        return x.name == t.name && x.depth == t.depth;
+      });
       if (it == times.end())
         times.push_back(t);
       else
@@ -1587,7 +1544,7 @@ bool Renderer::set_options(const RendererOptions& o) {
       o.deferred_lighting != c.deferred_lighting || o.silhouettes != c.silhouettes)
     return false;
   // The bias also offsets cascade rendering; back-face volumes change the geometry.
-  if (o.shadow_bias != c.shadow_bias) m.graph.invalidate("shadow_maps");
+  if (o.shadow_bias != c.shadow_bias) m.graph.notify(kParametersChanged, "renderer");
   if (o.volume_back_faces != c.volume_back_faces) m.invalidate_volumes();
   m.options = o;
   return true;
@@ -1599,8 +1556,8 @@ void Renderer::update_lights(const std::vector<Light>& lights) {
   impl_->context.wait_idle();
   impl_->lights = lights;
   impl_->upload_lights();
-  impl_->graph.invalidate("shadow_maps");
-  impl_->invalidate_volumes();
+  impl_->graph.notify(kLightsChanged);
+  impl_->volumes_dirty = true;
 }
 
 }  // namespace illum::realtime
