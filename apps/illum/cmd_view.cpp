@@ -19,6 +19,7 @@
 #include "illum/realtime/viewer.h"
 #include "illum/scene/load.h"
 #include "option_checks.h"
+#include "realtime_options.h"
 
 namespace illum::cli {
 
@@ -26,9 +27,7 @@ namespace {
 
 struct ViewArgs {
   std::string scene;
-  std::string technique = "forward";
-  std::string shadows = "map";
-  std::string tonemap = "aces";
+  RealtimeArgs realtime;
   int width = 1280, height = 720;
   std::string fallback_output = "view.png";
   int frames = 0;
@@ -84,13 +83,12 @@ void run_view(const ViewArgs& args) {
   if (!args.lightmap.empty())
     viewer.lightmap =
         realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
-  realtime::RendererOptions options;
-  options.ambient = scene.settings.ambient;
-  options.width = args.width;
-  options.height = args.height;
-  options.technique = realtime::technique_from_string(args.technique);
-  options.shadows = realtime::shadow_mode_from_string(args.shadows);
-  options.tone_mapper = realtime::tone_map_op_from_string(args.tonemap);
+  realtime::RenderSettings settings = realtime_settings(args.realtime, scene, false);
+  settings.width = args.width;
+  settings.height = args.height;
+  if (viewer.lightmap.kind != realtime::LightmapKind::kNone) settings.enable("baked");
+  settings.check();
+  const realtime::RendererOptions options = realtime::RendererOptions::from_settings(settings);
   std::string reason;
   viewer.frames = args.frames;
   viewer.seconds = args.seconds;
@@ -117,15 +115,7 @@ void add_view_command(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("view", "Open a window with the real-time renderer (headless fallback)");
   cmd->add_option("scene", args->scene, "scene file or built-in name")->required();
-  cmd->add_option("-t,--technique", args->technique, "forward or deferred")
-      ->check(CLI::IsMember({"forward", "deferred"}))
-      ->capture_default_str();
-  cmd->add_option("--shadows", args->shadows, "none, map, vsm, volume")
-      ->check(CLI::IsMember({"none", "map", "vsm", "volume"}))
-      ->capture_default_str();
-  cmd->add_option("--tonemap", args->tonemap, "clamp, reinhard, aces, agx")
-      ->check(CLI::IsMember({"clamp", "reinhard", "aces", "agx"}))
-      ->capture_default_str();
+  add_realtime_options(cmd, &args->realtime);
   cmd->add_option("--width", args->width, "window width")
       ->transform(number(1, 16384))
       ->capture_default_str();

@@ -105,6 +105,35 @@ RendererOptions RendererOptions::from_params(const Params& p) {
   return o;
 }
 
+RendererOptions RendererOptions::from_settings(const RenderSettings& s) {
+  RendererOptions o;
+  o.width = s.width;
+  o.height = s.height;
+  o.technique = technique_from_string(s.pipeline);
+  o.shadows = shadow_mode_from_string(s.shadows);
+  const std::string maps = s.shadows == "vsm" ? "vsm" : "map";
+  o.shadow_resolution = s.get<int>(maps + ".resolution");
+  o.shadow_update_period =
+      s.get<int>((s.shadows == "volume" ? std::string("volume") : maps) + ".update_period");
+  o.pcf_taps = s.get<int>("map.pcf_taps");
+  o.pcf_radius = s.get<float>("map.pcf_radius");
+  o.shadow_bias = s.get<float>("map.bias");
+  o.vsm_tau = s.get<float>("vsm.tau");
+  o.volume_back_faces = s.get<bool>("volume.back_faces");
+  o.silhouettes = silhouette_source_from_string(s.get<std::string>("volume.silhouettes"));
+  o.half_lambert = s.get<bool>("lighting.half_lambert");
+  o.ambient = s.get<Color>("lighting.ambient");
+  o.single_light = s.get<int>("lighting.single_light");
+  o.tone_mapper = tone_map_op_from_string(s.get<std::string>("tonemap.operator"));
+  o.auto_exposure = s.active("luminance");
+  o.exposure = s.get<float>("tonemap.exposure");
+  o.key = s.get<float>("tonemap.key");
+  o.bloom_strength = s.active("bloom") ? s.get<float>("bloom.strength") : 0.0f;
+  o.bloom_threshold = s.get<float>("bloom.threshold");
+  o.deferred_lighting = deferred_lighting_from_string(s.get<std::string>("deferred.lighting"));
+  return o;
+}
+
 namespace {
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;

@@ -24,6 +24,7 @@
 #include "illum/gpu/gpu_image.h"
 #include "illum/gpu/gpu_timer.h"
 #include "illum/realtime/gpu_types.h"
+#include "illum/realtime/render_settings.h"
 #include "illum/scene/scene.h"
 
 namespace illum::realtime {
@@ -72,6 +73,8 @@ struct RendererOptions {
   // clamp|reinhard|aces|agx, deferred_lighting compute|volumes, silhouettes cpu|gpu). Unknown
   // keys are left for the caller's check_all_used().
   static RendererOptions from_params(const Params& params);
+  // Interim: the renderer's options from the technique settings (render_settings.h).
+  static RendererOptions from_settings(const RenderSettings& settings);
 };
 
 ToneMapOp tone_map_op_from_string(const std::string& name);
