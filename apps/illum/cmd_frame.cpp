@@ -85,13 +85,12 @@ void run_frame(const FrameArgs& args) {
   settings.height = args.height > 0 ? args.height : scene.settings.height;
   if (lightmap.kind != realtime::LightmapKind::kNone) settings.enable("baked");
   settings.check();
-  const realtime::RendererOptions options = realtime::RendererOptions::from_settings(settings);
 
   gpu::ContextOptions context_options;
   context_options.device_filter = args.device;
   gpu::Context context(context_options);
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
-  realtime::Renderer renderer(context, scene, options);
+  realtime::Renderer renderer(context, scene, settings);
   if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
 
   std::map<std::string, std::vector<double>> pass_ms;
@@ -127,7 +126,7 @@ void run_frame(const FrameArgs& args) {
 
   std::printf(
       "illum frame: %s, %dx%d, %s, shadows %s, device '%s'%s, %d frame(s) after %d warm-up\n",
-      scene.name.c_str(), options.width, options.height, settings.pipeline.c_str(),
+      scene.name.c_str(), settings.width, settings.height, settings.pipeline.c_str(),
       settings.shadows.c_str(), context.device_name().c_str(),
       context.timestamps() ? "" : " (no timestamps)", args.frames, args.warmup);
   nlohmann::json passes = nlohmann::json::array();
@@ -150,8 +149,8 @@ void run_frame(const FrameArgs& args) {
       "frame", median(gpu_total), "wall", median(wall));
   if (!args.json.empty()) {
     nlohmann::json out = {{"scene", scene.name},
-                          {"width", options.width},
-                          {"height", options.height},
+                          {"width", settings.width},
+                          {"height", settings.height},
                           {"technique", settings.pipeline},
                           {"shadows", settings.shadows},
                           {"add_ons", settings.active_techniques()},

@@ -88,18 +88,17 @@ void run_view(const ViewArgs& args) {
   settings.height = args.height;
   if (viewer.lightmap.kind != realtime::LightmapKind::kNone) settings.enable("baked");
   settings.check();
-  const realtime::RendererOptions options = realtime::RendererOptions::from_settings(settings);
   std::string reason;
   viewer.frames = args.frames;
   viewer.seconds = args.seconds;
   viewer.screenshot = args.screenshot;
   Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
-  if (!realtime::run_viewer(scene, options, viewer, &camera, &reason)) {
+  if (!realtime::run_viewer(scene, settings, viewer, &camera, &reason)) {
     std::fprintf(stderr,
                  "illum view: no window available (%s); rendering one frame headless to %s\n",
                  reason.c_str(), args.fallback_output.c_str());
     gpu::Context context;
-    realtime::Renderer renderer(context, scene, options);
+    realtime::Renderer renderer(context, scene, settings);
     if (viewer.lightmap.kind != realtime::LightmapKind::kNone)
       renderer.set_lightmap(viewer.lightmap);
     renderer.render(camera);

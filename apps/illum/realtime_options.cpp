@@ -48,13 +48,21 @@ realtime::RenderSettings realtime_settings(const RealtimeArgs& args, const Scene
   realtime::RenderSettings s;
   s.pipeline = args.technique;
   s.shadows = args.shadows;
-  for (const auto& [key, value] : j.items()) s.set_param(key, value);
   for (const std::string& name : args.enable) s.enable(name);
   for (const std::string& name : args.disable) {
     if (std::find(args.enable.begin(), args.enable.end(), name) != args.enable.end())
       throw Error(fmt::format("--enable {0} and --disable {0} contradict each other", name));
     s.disable(name);
   }
+  // Short keys may switch an add-on too (bloom_strength=0, auto_exposure=false): they must not
+  // undo an explicit --enable / --disable.
+  for (const auto& [key, value] : j.items()) s.set_param(key, value);
+  for (const std::string& name : args.enable)
+    if (!s.active(name))
+      throw Error(fmt::format("--enable {} contradicts a -p key that switches it off", name));
+  for (const std::string& name : args.disable)
+    if (s.active(name))
+      throw Error(fmt::format("--disable {} contradicts a -p key that switches it on", name));
   if (args.fixed_exposure) {
     if (std::find(args.enable.begin(), args.enable.end(), "luminance") != args.enable.end())
       throw Error("--fixed-exposure contradicts --enable luminance");

@@ -201,8 +201,14 @@ TEST_F(CliFrameListTest, AddOnsSwitchAndShortKeysStillWork) {
   EXPECT_FALSE(contains(plain, "bloom"));
   EXPECT_TRUE(contains(passes("--enable bloom"), "bloom"));
   EXPECT_TRUE(contains(passes("-p bloom_strength=0.5 -p bloom_threshold=2"), "bloom"));
-  EXPECT_FALSE(contains(passes("--enable bloom -p bloom_strength=0"), "bloom"))
-      << "bloom_strength=0 switches bloom off, as before the technique interface";
+  EXPECT_FALSE(contains(passes("-p bloom_strength=0"), "bloom"));
+  // bloom_strength=0 switches bloom off, as before the technique interface: against
+  // --enable bloom that is a contradiction.
+  refused(frame("--enable bloom -p bloom_strength=0"), "contradicts");
+  refused(frame("--disable luminance -p auto_exposure=true"), "contradicts");
+  EXPECT_FALSE(contains(passes("--disable luminance"), "luminance"));
+  EXPECT_FALSE(contains(passes("--fixed-exposure"), "luminance"));
+  EXPECT_FALSE(contains(passes("-p auto_exposure=false"), "luminance"));
   const std::vector<std::string> deferred = passes(
       "--technique deferred -p deferred_lighting=volumes -p pcf_taps=4 -p "
       "shadow_resolution=64 -p half_lambert=true -p key=0.3 -p vsm_tau=0.5");
@@ -210,6 +216,8 @@ TEST_F(CliFrameListTest, AddOnsSwitchAndShortKeysStillWork) {
   EXPECT_TRUE(contains(deferred, "lighting"));
   EXPECT_TRUE(contains(passes("--shadows volume -p silhouettes=cpu -p volume_back_faces=true"),
                        "cpu:silhouettes"));
+  // Disabling the tone mapper leaves nothing to write the 8-bit output.
+  refused(frame("--disable tonemap"), "tonemap");
   const Result v = run(view("--enable bloom -p map.pcf_taps=4 -p bloom.threshold=2"));
   EXPECT_EQ(v.exit_code, 0) << v.err;
 }

@@ -53,6 +53,16 @@ uint32_t usage_of(Uses uses, bool image) {
 
 }  // namespace
 
+void merge_access(std::vector<Access>* accesses, const Access& access) {
+  for (Access& a : *accesses)
+    if (a.resource == access.resource) {
+      a.uses |= access.uses;
+      a.shaders |= access.shaders;
+      return;
+    }
+  accesses->push_back(access);
+}
+
 bool writes(Uses uses) {
   return (uses & kWriteUses) != 0;
 }

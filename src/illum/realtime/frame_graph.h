@@ -73,6 +73,10 @@ struct Access {
   VkPipelineStageFlags2 shaders = kFragmentShader | kComputeShader;
 };
 
+// Adds `access` to `accesses`, merged into the access of the same resource if there is one
+// (one pass testing the depth read-only and sampling it).
+void merge_access(std::vector<Access>* accesses, const Access& access);
+
 // A resource's synchronization state: its layout (images) and the stages and accesses of
 // its uses since the last barrier (the source of the next one).
 struct ResourceState {

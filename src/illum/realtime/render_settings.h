@@ -58,6 +58,8 @@ struct RenderSettings {
   // The size, pipeline, shadow method and add-on names; throws Error naming what is wrong.
   void check() const;
 
+  bool operator==(const RenderSettings& other) const = default;
+
  private:
   std::map<std::string, ParamValue> values_;
 };

@@ -18,7 +18,10 @@
 #include <variant>
 #include <vector>
 
+#include <vulkan/vulkan.h>
+
 #include "illum/core/color.h"
+#include "illum/realtime/frame_graph.h"
 
 namespace illum::realtime {
 
@@ -70,6 +73,9 @@ ParamDecl color_param(const std::string& key, Color fallback, float lo, float hi
 ParamDecl enum_param(const std::string& key, const std::string& fallback,
                      std::vector<std::string> choices, const std::string& help);
 
+class Technique;
+class TechniqueContext;
+
 struct TechniqueDecl {
   std::string name;
   TechniqueKind kind = TechniqueKind::kAddOn;
@@ -77,8 +83,68 @@ struct TechniqueDecl {
   std::vector<ParamDecl> params;
   bool default_on = false;   // add-ons switched on unless --disable'd
   std::string switch_alias;  // a boolean `-p` key that switches the add-on (auto_exposure)
+  // Builds the technique for a renderer; null for the globals, which have no passes (the
+  // renderer writes their values into the frame uniforms).
+  std::function<std::unique_ptr<Technique>(TechniqueContext&)> create;
 
   const ParamDecl* param(const std::string& key) const;  // null if not declared
+};
+
+// A technique at run time. Built when it is switched on (or a structural parameter of it
+// changes); kept otherwise. Per-frame parameters are read through param() while recording,
+// so they apply at the next frame without a rebuild.
+class Technique {
+ public:
+  Technique(TechniqueContext& context, const TechniqueDecl& decl) : ctx_(context), decl_(decl) {}
+  virtual ~Technique() = default;
+  Technique(const Technique&) = delete;
+  Technique& operator=(const Technique&) = delete;
+
+  const std::string& name() const { return decl_.name; }
+
+  // Its resources (created ones with size, format, usage beyond the accesses) and its
+  // passes with their accesses and schedules. Called whenever the frame is (re)assembled.
+  virtual void declare(FrameGraph& graph) = 0;
+  // After the frame's resources exist (again): writes the descriptor sets that point at them.
+  virtual void bind() {}
+  // Each frame before recording: uniforms from the camera, lights and parameter values.
+  virtual void update() {}
+
+  // Shading sets: a technique whose data the lighting shaders read binds its own set at a
+  // fixed slot of the shading pipeline layout (frame_globals.h: kShadowSet, kBakedSet) and
+  // names the resources sampled through it (the shadow maps).
+  virtual int shading_slot() const { return -1; }
+  virtual VkDescriptorSet shading_set() const { return VK_NULL_HANDLE; }
+  virtual std::vector<std::string> shading_reads() const { return {}; }
+
+ protected:
+  template <typename T>
+  T param(const std::string& key) const;
+
+  TechniqueContext& ctx_;
+  const TechniqueDecl& decl_;
+};
+
+// The frame pipeline (forward, deferred): draws the scene and lights it.
+class FramePipeline : public Technique {
+ public:
+  using Technique::Technique;
+  // For shadow methods that mask each light with the stencil (volumes): called per light
+  // inside a light scope (SceneDrawer::begin_light_scope: HDR target loaded, depth
+  // read-only, the light's stencil count made), adds light `light`, unshadowed, where the
+  // stencil is 0.
+  virtual void record_masked_light(PassContext& pass, int light) = 0;
+  // What record_masked_light() reads besides the depth test and the HDR target.
+  virtual std::vector<Access> masked_light_reads() const { return {}; }
+};
+
+// The shadow method (none, map, vsm, volume).
+class ShadowMethod : public Technique {
+ public:
+  using Technique::Technique;
+  // True for stencil volumes: the pipeline's main pass then writes emission + ambient only
+  // and each light is added through FramePipeline::record_masked_light().
+  virtual bool masks_lights() const { return false; }
 };
 
 }  // namespace illum::realtime

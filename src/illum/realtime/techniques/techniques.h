@@ -2,6 +2,8 @@
 // technique_registry.cpp lists them.
 #pragma once
 
+#include <cstdint>
+
 #include "illum/realtime/technique.h"
 
 namespace illum::realtime {
@@ -17,5 +19,8 @@ TechniqueDecl baked_technique();          // baked.cpp
 TechniqueDecl luminance_technique();      // luminance.cpp
 TechniqueDecl bloom_technique();          // bloom.cpp
 TechniqueDecl tonemap_technique();        // tonemap.cpp
+
+// 16×16 tiles of the log-average luminance (luminance.cpp); L_avg follows their partials.
+uint32_t luminance_tiles(uint32_t width, uint32_t height);
 
 }  // namespace illum::realtime
