@@ -196,6 +196,28 @@ TEST(FrameGraph, BarriersFollowTheDeclaredAccesses) {
   EXPECT_EQ(find_barrier(second, "hdr", 0)->old_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
+// A read by stages the last barrier did not cover gets one (chained from the stages it did
+// cover); a read the last barrier covered gets none.
+TEST(FrameGraph, ReadsByNewStagesGetABarrier) {
+  FrameGraph g;
+  g.add_resource(image("shadow", VK_FORMAT_R32_SFLOAT));
+  g.add_pass(pass("maps", Phase::kShadows, {{"shadow", kColorAttachment}},
+                  Schedule::on_change(kLightsChanged)));
+  g.add_pass(pass("forward", Phase::kGeometry, {{"shadow", kSampled, kFragmentShader}}));
+  g.add_pass(pass("lighting", Phase::kLighting, {{"shadow", kSampled, kComputeShader}}));
+  g.add_pass(pass("again", Phase::kPost, {{"shadow", kSampled, kComputeShader}}));
+  g.execute(VK_NULL_HANDLE, 0, nullptr);
+  ASSERT_EQ(count_barriers(g.barriers(), "shadow"), 3u);
+  const Barrier* b = find_barrier(g.barriers(), "shadow", 2);
+  EXPECT_EQ(b->old_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  EXPECT_EQ(b->new_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  EXPECT_EQ(b->src_stages, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT);
+  EXPECT_EQ(b->dst_stages, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+  // Next frame nothing rewrites the maps: fragment and compute reads are both covered.
+  g.execute(VK_NULL_HANDLE, 1, nullptr);
+  EXPECT_EQ(count_barriers(g.barriers(), "shadow"), 0u);
+}
+
 TEST(FrameGraph, UseInsideAPassDerivesItsBarrier) {
   FrameGraph g;
   g.add_resource(image("hdr"));

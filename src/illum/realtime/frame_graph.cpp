@@ -161,8 +161,14 @@ std::optional<Barrier> barrier_for(ResourceState* state, const UseState& next, b
   b.dst_stages = next.stages;
   b.dst_access = next.access;
   state->layout = b.new_layout;
-  state->stages = next.stages;
-  state->access = next.access;
+  if (!layout_change && !after_write && !next.write) {
+    // Visibility for more readers: the readers before stay covered.
+    state->stages |= next.stages;
+    state->access |= next.access;
+  } else {
+    state->stages = next.stages;
+    state->access = next.access;
+  }
   return b;
 }
 
