@@ -160,6 +160,37 @@ TEST_F(RealtimeTest, PassesAreTimedAndShadowMapsRunOnlyOnChange) {
   }
 }
 
+// Cube faces re-rendered two a frame in turn (map.views_per_frame = 2, the round-robin
+// schedule): the pass runs every frame, each frame renders only its faces into the cube
+// array (the others keep their contents through the layout transitions), so with a still
+// light every frame is the frame of a renderer that renders all six at once; after the light
+// moves all six are due at once again.
+TEST_F(RealtimeTest, RoundRobinShadowViewsMatchAllAtOnce) {
+  const Scene scene = test::cornell_point_light();
+  RenderSettings o;
+  o.width = o.height = 48;
+  o.set("map.resolution", 64);
+  RenderSettings k = o;
+  k.set("map.views_per_frame", 2);
+  Renderer all(context(), scene, o), turns(context(), scene, k);
+  std::vector<Light> lights = scene.lights;
+  for (int f = 0; f < 5; ++f) {
+    if (f == 3) {  // the light moves: every face is due in both
+      lights[0].position.x += 0.1f;
+      all.update_lights(lights);
+      turns.update_lights(lights);
+    }
+    all.render(*scene.camera);
+    turns.render(*scene.camera);
+    EXPECT_EQ(all.hdr().data(), turns.hdr().data()) << "frame " << f;
+    if (context().timestamps()) {
+      bool ran = false;
+      for (const auto& t : turns.pass_times()) ran |= t.name == "shadow_maps";
+      EXPECT_TRUE(ran) << "frame " << f << ": round-robin views run every frame";
+    }
+  }
+}
+
 // `illum view` changes settings in the running renderer (Renderer::configure): per-frame
 // values in place, a technique switched, replaced or with a structural parameter changed
 // built anew and nothing else. After every step the frame must be the bytes of a renderer
