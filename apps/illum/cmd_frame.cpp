@@ -153,7 +153,7 @@ void run_frame(const FrameArgs& args) {
                           {"height", settings.height},
                           {"technique", settings.pipeline},
                           {"shadows", settings.shadows},
-                          {"add_ons", settings.active_techniques()},
+                          {"techniques", settings.active_techniques()},
                           {"tonemap", settings.get<std::string>("tonemap.operator")},
                           {"device", context.device_name()},
                           {"frames", args.frames},
