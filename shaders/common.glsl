@@ -10,11 +10,6 @@ const int kLightSpot = 1;
 const int kLightDirectional = 2;
 const int kLightLambertian = 3;  // a spot whose intensity falls off as cos θ (area light)
 
-const int kShadowNone = 0;
-const int kShadowMap = 1;      // PCF with rotated Poisson taps
-const int kShadowVsm = 2;      // variance shadow maps with light-bleeding threshold τ
-const int kShadowVolume = 3;   // stencil shadow volumes (lighting pass per light)
-
 struct Material {
   vec4 albedo;     // rgb, opacity
   vec4 specular;   // rgb ks, exponent n
@@ -27,43 +22,24 @@ struct Light {
   vec4 position_range;  // xyz position, w: culling radius r (0 = none)
   vec4 direction_cos;   // xyz unit direction the light travels, w: cos of spot cutoff
   vec4 color_type;      // rgb: I (point/spot, W/sr) or E (directional, W/m²), w: type
-  ivec4 shadow;         // x: shadow slot (−1 = none), y: first cascade/face view, z: views, w: 1 = 2-D spot map
-  vec4 shadow_params;   // x: far distance of the shadow map, y: spot map tan(half field of view)
 };
 
+// Set 0: the frame globals. A technique's own data lives in its own set (shadows.glsl: the
+// shadow method's, set 3; baked.glsl: baked lighting, set 4; gbuffer.glsl: the deferred
+// pipeline's, set 2).
 layout(std140, set = 0, binding = 0) uniform Frame {
   mat4 view;
   mat4 proj;
   mat4 view_proj;
   mat4 inv_view_proj;
   vec4 camera_pos;     // xyz, w: time
-  vec4 ambient;        // rgb constant ambient (when no light-map), w: light-map intensity
-  ivec4 counts;        // x: lights, y: half-Lambert, z: shadow mode, w: PCF taps
-  vec4 shadow_config;  // x: depth bias (relative), y: PCF radius (texels), z: VSM τ, w: min variance
-  vec4 cascade_splits; // view-space far distance of each cascade
-  ivec4 options;       // x: single light index (−1 = all), y: light-map kind (0 none, 1 plain, 2 RNM, 3 SH-L1), z: PRT on
+  vec4 ambient;        // rgb constant ambient (where no baked lighting applies)
+  ivec4 counts;        // x: lights, y: half-Lambert, z: single light index (−1 = all)
   vec4 extent;         // width, height, 1/width, 1/height
-  vec4 prt_light[4];   // PRT: the lights' SH-L1 radiance (Y00, Y1−1, Y10, Y11), RGB
 } frame;
 
 layout(std430, set = 0, binding = 1) readonly buffer Materials { Material materials[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Lights { Light lights[]; };
-layout(std430, set = 0, binding = 3) readonly buffer ShadowViews { mat4 shadow_views[]; };
-// Cube maps of all shadowed point/spot lights in one array (lavapipe has no descriptor
-// indexing, so no arrays of samplers): layer = slot.
-layout(set = 0, binding = 4) uniform samplerCubeArray shadow_cubes;
-layout(set = 0, binding = 5) uniform sampler2DArray cascade_maps;
-// Light-map layers (uv1): 1 = plain, 3 = RNM basis 0..2, 4 = SH-L1 coefficients 0..3.
-layout(set = 0, binding = 6) uniform sampler2DArray lightmap;
-// Ambient cubes (Source engine): 6 RGB values (+x, −x, +y, −y, +z, −z) per probed draw,
-// interpolated on the CPU from the probe grid at the instance's centre.
-layout(std430, set = 0, binding = 7) readonly buffer AmbientCubes { vec4 ambient_cubes[]; };
-
-// PRT: per-vertex SH-L1 transfer vectors (Y00, Y1−1, Y10, Y11), indexed by gl_VertexIndex.
-layout(std430, set = 0, binding = 8) readonly buffer Transfer { vec4 prt_transfer[]; };
-
-// One 2-D perspective map (frustum = the cone) per shadowed narrow spot light: layer = slot.
-layout(set = 0, binding = 9) uniform sampler2DArray spot_maps;
 
 // Octahedral unit-vector encoding (both components in [−1, 1]) for the compact G-buffer.
 vec2 oct_encode(vec3 n) {
@@ -86,7 +62,7 @@ layout(set = 1, binding = 3) uniform sampler2D specular_map;
 layout(push_constant) uniform Push {
   mat4 model;
   int material;
-  int view_index;   // shadow passes: which shadow view; colour passes: ambient cube + 1 (0: none)
+  int view_index;   // shadow passes: which shadow view; colour passes: the draw's index
   int light_index;  // shadow / per-light passes
   int pad;
 } push;

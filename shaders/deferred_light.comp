@@ -14,8 +14,8 @@ void main() {
   if (depth >= 1.0) return;
   Surface s = gbuffer_surface(pixel, depth);
   vec3 v = normalize(frame.camera_pos.xyz - s.p);
-  int first = frame.options.x >= 0 ? frame.options.x : 0;
-  int last = frame.options.x >= 0 ? frame.options.x + 1 : frame.counts.x;
+  int first = frame.counts.z >= 0 ? frame.counts.z : 0;
+  int last = frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;
   vec3 sum = vec3(0.0);
   vec2 frag = vec2(pixel) + 0.5;  // gl_FragCoord.xy of the fragment path (same PCF rotation)
   for (int i = first; i < last; ++i) {

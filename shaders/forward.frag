@@ -18,16 +18,16 @@ void main() {
   // technique); 2 = only light push.light_index, no shadow-map lookup (stencil masks it).
   int mode = push.pad;
   vec3 color = mode == 2 ? vec3(0.0) : s.emission + ambient_term(s);
-  int first = mode == 2 ? push.light_index : frame.options.x >= 0 ? frame.options.x : 0;
+  int first = mode == 2 ? push.light_index : frame.counts.z >= 0 ? frame.counts.z : 0;
   int last = mode == 2 ? push.light_index + 1
            : mode == 1 ? 0
-           : frame.options.x >= 0 ? frame.options.x + 1 : frame.counts.x;
+           : frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;
   for (int i = first; i < last; ++i) {
     vec3 radiance, l;
     if (!light_contribution(i, s, v, radiance, l)) continue;
     color += radiance * (mode == 2 ? 1.0 : cube_shadow(i, s.p, s.ng, gl_FragCoord.xy));
   }
   // PRT: the transfer carries shadowing and the cosine; relit by the lights' SH this frame.
-  if (frame.options.z != 0 && mode == 0) color = s.emission + ambient_term(s) + s.albedo / kPi * max(in_prt, 0.0);
+  if (baked.info.y != 0 && mode == 0) color = s.emission + ambient_term(s) + s.albedo / kPi * max(in_prt, 0.0);
   out_color = vec4(color, 1.0);
 }

@@ -1,5 +1,5 @@
 #version 450
-#include "common.glsl"
+#include "baked.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -25,10 +25,10 @@ void main() {
   out_tangent = vec4(mat3(push.model) * in_tangent.xyz, in_tangent.w);
   out_uv = vec4(in_uv0, in_uv1);
   out_prt = vec3(0.0);
-  if (frame.options.z != 0) {
+  if (baked.info.y != 0) {
     vec4 t = prt_transfer[gl_VertexIndex];
-    out_prt = t.x * frame.prt_light[0].rgb + t.y * frame.prt_light[1].rgb + t.z * frame.prt_light[2].rgb +
-              t.w * frame.prt_light[3].rgb;
+    out_prt = t.x * baked.prt_light[0].rgb + t.y * baked.prt_light[1].rgb + t.z * baked.prt_light[2].rgb +
+              t.w * baked.prt_light[3].rgb;
   }
   gl_Position = frame.view_proj * world;
 }

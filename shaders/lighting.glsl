@@ -7,6 +7,7 @@
 #define ILLUM_LIGHTING_GLSL
 #include "common.glsl"
 #include "shadows.glsl"
+#include "baked.glsl"
 
 struct Surface {
   vec3 p;
@@ -97,22 +98,23 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
   return true;
 }
 
-// Ambient: a constant, or the light-map at uv1 (× frame.ambient.w). Plain light-maps are
+// Ambient: a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
 // scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
 // weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (basis
 // 0.282095, 0.488603·(y, z, x)) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
 vec3 ambient_term(Surface s) {
-  if (push.view_index > 0) {  // a probed (dynamic) object: ambient cube along the normal
-    int base = 6 * (push.view_index - 1);
+  int cube = push.view_index < baked.info.z ? draw_cubes[push.view_index] : 0;
+  if (cube > 0) {  // a probed (dynamic) object: ambient cube along the normal
+    int base = 6 * (cube - 1);
     vec3 n2 = s.n * s.n;
     vec3 a = n2.x * ambient_cubes[base + (s.n.x >= 0.0 ? 0 : 1)].rgb +
              n2.y * ambient_cubes[base + (s.n.y >= 0.0 ? 2 : 3)].rgb +
              n2.z * ambient_cubes[base + (s.n.z >= 0.0 ? 4 : 5)].rgb;
     return s.albedo * a;
   }
-  int kind = frame.options.y;
+  int kind = baked.info.x;
   if (kind == 0) return s.albedo * frame.ambient.rgb;
-  float k = frame.ambient.w;
+  float k = baked.intensity.x;
   vec3 uv = vec3(s.uv1, 0.0);
   if (kind == 1) return s.albedo * k * texture(lightmap, uv).rgb * s.n_z;
   vec3 n = s.n_ts;

@@ -1,5 +1,5 @@
 #version 450
-#include "common.glsl"
+#include "shadow_set.glsl"
 layout(location = 0) in vec3 in_position;
 layout(location = 0) out vec3 out_world;
 void main() {

@@ -2,7 +2,7 @@
 // rotated Poisson taps, or as variance shadow maps with the light-bleeding threshold τ.
 #ifndef ILLUM_SHADOWS_GLSL
 #define ILLUM_SHADOWS_GLSL
-#include "common.glsl"
+#include "shadow_set.glsl"
 
 const vec2 kPoisson[16] = vec2[](
     vec2(-0.94201624, -0.39906216), vec2(0.94558609, -0.76890725), vec2(-0.09418410, -0.92938870),
@@ -20,38 +20,38 @@ float hash12(vec2 p) {
 
 float vsm_visibility(vec2 moments, float t) {
   if (t <= moments.x) return 1.0;
-  float variance = max(moments.y - moments.x * moments.x, frame.shadow_config.w);
+  float variance = max(moments.y - moments.x * moments.x, shadow.params.w);
   float d = t - moments.x;
   float p_max = variance / (variance + d * d);
   // Light-bleeding reduction: map [τ, 1] to [0, 1].
-  return clamp((p_max - frame.shadow_config.z) / (1.0 - frame.shadow_config.z), 0.0, 1.0);
+  return clamp((p_max - shadow.params.z) / (1.0 - shadow.params.z), 0.0, 1.0);
 }
 
 // Cascaded shadow maps of the (one) shadowed directional light: the cascade is chosen by
-// view depth against frame.cascade_splits; PCF with rotated Poisson taps or VSM.
+// view depth against shadow.cascade_splits; PCF with rotated Poisson taps or VSM.
 float cascade_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
-  Light light = lights[i];
+  ShadowLight light = shadow_lights[i];
   float view_depth = -(frame.view * vec4(p, 1.0)).z;
   int cascade = 0;
-  while (cascade < light.shadow.z - 1 && view_depth > frame.cascade_splits[cascade]) ++cascade;
+  while (cascade < light.slot.z - 1 && view_depth > shadow.cascade_splits[cascade]) ++cascade;
   float size = float(textureSize(cascade_maps, 0).x);
-  // World size of one texel of this cascade (shadow_params holds the ortho half-widths).
-  float texel = 2.0 * light.shadow_params[cascade] / size;
-  vec4 h = shadow_views[light.shadow.y + cascade] * vec4(p + ng * texel * 1.5, 1.0);
+  // World size of one texel of this cascade (the shadow-light params hold the ortho half-widths).
+  float texel = 2.0 * light.params[cascade] / size;
+  vec4 h = shadow_views[light.slot.y + cascade] * vec4(p + ng * texel * 1.5, 1.0);
   vec3 c = h.xyz / h.w;
   vec2 uv = c.xy * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || c.z > 1.0) return 1.0;
-  if (frame.counts.z == kShadowVsm)
+  if (shadow.config.x == kShadowVsm)
     return vsm_visibility(texture(cascade_maps, vec3(uv, float(cascade))).rg, c.z);
-  float bias = frame.shadow_config.x * 0.1;
-  int taps = frame.counts.w;
+  float bias = shadow.params.x * 0.1;
+  int taps = shadow.config.y;
   if (taps <= 1) return texture(cascade_maps, vec3(uv, float(cascade))).r + bias >= c.z ? 1.0 : 0.0;
   float angle = 6.2831853 * hash12(pixel);
   float cs = cos(angle), sn = sin(angle);
   float lit = 0.0;
   for (int k = 0; k < taps; ++k) {
     vec2 o = kPoisson[k % 16];
-    o = vec2(cs * o.x - sn * o.y, sn * o.x + cs * o.y) * frame.shadow_config.y / size;
+    o = vec2(cs * o.x - sn * o.y, sn * o.x + cs * o.y) * shadow.params.y / size;
     lit += texture(cascade_maps, vec3(uv + o, float(cascade))).r + bias >= c.z ? 1.0 : 0.0;
   }
   return lit / float(taps);
@@ -61,29 +61,30 @@ float cascade_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
 // faces, so bias and VSM moments are the same; outside the frustum lies outside the cone.
 float spot_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
   Light light = lights[i];
-  int slot = light.shadow.x;
-  float far_plane = light.shadow_params.x;
+  ShadowLight sl = shadow_lights[i];
+  int slot = sl.slot.x;
+  float far_plane = sl.params.x;
   float size = float(textureSize(spot_maps, 0).x);
   float dist = length(p - light.position_range.xyz);
   // World size of one texel at this distance (the map spans 2·tan(half fov) per unit depth).
-  float texel = 2.0 * light.shadow_params.y * dist / size;
+  float texel = 2.0 * sl.params.y * dist / size;
   vec3 offset_p = p + ng * texel * 1.5;
-  vec4 h = shadow_views[light.shadow.y] * vec4(offset_p, 1.0);
+  vec4 h = shadow_views[sl.slot.y] * vec4(offset_p, 1.0);
   if (h.w <= 0.0) return 1.0;
   vec2 uv = h.xy / h.w * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
   float t = length(offset_p - light.position_range.xyz) / far_plane;
-  if (frame.counts.z == kShadowVsm)
+  if (shadow.config.x == kShadowVsm)
     return vsm_visibility(texture(spot_maps, vec3(uv, float(slot))).rg, t);
-  float bias = frame.shadow_config.x + texel / far_plane;
-  int taps = frame.counts.w;
+  float bias = shadow.params.x + texel / far_plane;
+  int taps = shadow.config.y;
   if (taps <= 1) return texture(spot_maps, vec3(uv, float(slot))).r + bias >= t ? 1.0 : 0.0;
   float angle = 6.2831853 * hash12(pixel);
   float cs = cos(angle), sn = sin(angle);
   float lit = 0.0;
   for (int k = 0; k < taps; ++k) {
     vec2 o = kPoisson[k % 16];
-    o = vec2(cs * o.x - sn * o.y, sn * o.x + cs * o.y) * frame.shadow_config.y / size;
+    o = vec2(cs * o.x - sn * o.y, sn * o.x + cs * o.y) * shadow.params.y / size;
     lit += texture(spot_maps, vec3(uv + o, float(slot))).r + bias >= t ? 1.0 : 0.0;
   }
   return lit / float(taps);
@@ -91,15 +92,16 @@ float spot_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
 
 // Visibility in [0, 1] of light i from world point p with geometric normal ng.
 float cube_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
+  if (shadow.config.x == kShadowNone) return 1.0;  // also stencil volumes: the stencil masks
   Light light = lights[i];
-  int slot = light.shadow.x;
-  if (frame.counts.z == kShadowNone || frame.counts.z == kShadowVolume) return 1.0;
+  ShadowLight sl = shadow_lights[i];
+  int slot = sl.slot.x;
   if (int(light.color_type.w) == kLightDirectional)
-    return light.shadow.z > 0 ? cascade_shadow(i, p, ng, pixel) : 1.0;
+    return sl.slot.z > 0 ? cascade_shadow(i, p, ng, pixel) : 1.0;
   if (slot < 0) return 1.0;
-  if (light.shadow.w == 1) return spot_shadow(i, p, ng, pixel);
+  if (sl.slot.w == 1) return spot_shadow(i, p, ng, pixel);
   vec3 dir = p - light.position_range.xyz;
-  float far_plane = light.shadow_params.x;
+  float far_plane = sl.params.x;
   float dist = length(dir);
   float size = float(textureSize(shadow_cubes, 0).x);
   // A texel subtends ~2/size of the unit cube face; scale to world units at this distance.
@@ -109,17 +111,17 @@ float cube_shadow(int i, vec3 p, vec3 ng, vec2 pixel) {
   dir = offset_p - light.position_range.xyz;
   dist = length(dir);
   float t = dist / far_plane;
-  if (frame.counts.z == kShadowVsm)
+  if (shadow.config.x == kShadowVsm)
     return vsm_visibility(texture(shadow_cubes, vec4(dir, float(slot))).rg, t);
-  float bias = frame.shadow_config.x + texel / far_plane;
-  int taps = frame.counts.w;
+  float bias = shadow.params.x + texel / far_plane;
+  int taps = shadow.config.y;
   if (taps <= 1) return texture(shadow_cubes, vec4(dir, float(slot))).r + bias >= t ? 1.0 : 0.0;
   vec3 axis = dir / dist;
   vec3 u = normalize(cross(abs(axis.y) < 0.99 ? vec3(0, 1, 0) : vec3(1, 0, 0), axis));
   vec3 w = cross(axis, u);
   float angle = 6.2831853 * hash12(pixel);
   float c = cos(angle), sn = sin(angle);
-  float radius = frame.shadow_config.y * texel;
+  float radius = shadow.params.y * texel;
   float lit = 0.0;
   for (int k = 0; k < taps; ++k) {
     vec2 o = kPoisson[k % 16];

@@ -21,6 +21,7 @@
 #include "illum/realtime/viewer.h"
 #include "illum/scene/load.h"
 #include "option_checks.h"
+#include "realtime_options.h"
 
 namespace illum::cli {
 
@@ -28,9 +29,7 @@ namespace {
 
 struct ViewArgs {
   std::string scene;
-  std::string technique = "forward";
-  std::string shadows = "map";
-  std::string tonemap = "aces";
+  RealtimeArgs realtime;
   int width = 1280, height = 720;
   std::string fallback_output = "view.png";
   int frames = 0;
@@ -87,27 +86,24 @@ void run_view(const ViewArgs& args) {
   if (!args.lightmap.empty())
     viewer.lightmap =
         realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
-  realtime::RendererOptions options;
-  options.ambient = scene.settings.ambient;
-  options.width = args.width;
-  options.height = args.height;
-  options.technique = realtime::technique_from_string(args.technique);
-  options.shadows = realtime::shadow_mode_from_string(args.shadows);
-  options.tone_mapper = realtime::tone_map_op_from_string(args.tonemap);
+  realtime::RenderSettings settings = realtime_settings(args.realtime, scene, false);
+  settings.width = args.width;
+  settings.height = args.height;
+  if (viewer.lightmap.kind != realtime::LightmapKind::kNone) settings.enable("baked");
+  settings.check();
   std::string reason;
   viewer.frames = args.frames;
   viewer.seconds = args.seconds;
   viewer.screenshot = args.screenshot;
   Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
-  realtime::check_renderer_options(options);
-  realtime::check_realtime_input(scene, options);
+  realtime::  realtime::check_realtime_input(scene, settings);
   log::release();  // the input is checked: the load's warnings may show now
-  if (!realtime::run_viewer(scene, options, viewer, &camera, &reason)) {
+  if (!realtime::run_viewer(scene, settings, viewer, &camera, &reason)) {
     std::fprintf(stderr,
                  "illum view: no window available (%s); rendering one frame headless to %s\n",
                  reason.c_str(), args.fallback_output.c_str());
     gpu::Context context;
-    realtime::Renderer renderer(context, scene, options);
+    realtime::Renderer renderer(context, scene, settings);
     if (viewer.lightmap.kind != realtime::LightmapKind::kNone)
       renderer.set_lightmap(viewer.lightmap);
     renderer.render(camera);
@@ -123,15 +119,7 @@ void add_view_command(CLI::App& app) {
   auto* cmd =
       app.add_subcommand("view", "Open a window with the real-time renderer (headless fallback)");
   cmd->add_option("scene", args->scene, "scene file or built-in name")->required();
-  cmd->add_option("-t,--technique", args->technique, "forward or deferred")
-      ->check(CLI::IsMember({"forward", "deferred"}))
-      ->capture_default_str();
-  cmd->add_option("--shadows", args->shadows, "none, map, vsm, volume")
-      ->check(CLI::IsMember({"none", "map", "vsm", "volume"}))
-      ->capture_default_str();
-  cmd->add_option("--tonemap", args->tonemap, "clamp, reinhard, aces, agx")
-      ->check(CLI::IsMember({"clamp", "reinhard", "aces", "agx"}))
-      ->capture_default_str();
+  add_realtime_options(cmd, &args->realtime);
   cmd->add_option("--width", args->width, "window width")
       ->transform(number(1, 16384))
       ->capture_default_str();

@@ -220,7 +220,7 @@ TEST_F(CliOptionsTest, EveryOptionRefusesAnEmptyValue) {
 // (an unknown key would be refused for being unknown).
 TEST_F(CliOptionsTest, ParamKeysRepeatedOrEmpty) {
   const std::map<std::string, std::string> known = {
-      {"render", "samples"}, {"bake", "padding"}, {"frame", "pcf_taps"}};
+      {"render", "samples"}, {"bake", "padding"}, {"frame", "pcf_taps"}, {"view", "pcf_taps"}};
   size_t checked = 0;
   for (const std::string& sub : subcommands())
     for (const HelpOption& o : options_of(sub)) {

@@ -142,9 +142,9 @@ TEST(LightmapDisplay, CornellLightmapFrameMatchesPathTracer) {
   EXPECT_TRUE(shown.lights.empty()) << "content 'all' leaves no real-time light";
   const Camera camera = *original.camera;
 
-  RendererOptions options;
+  RenderSettings options;
   options.width = options.height = kSize;
-  options.shadows = ShadowMode::kNone;
+  options.shadows = "none";
   Renderer renderer(context(), shown, options);
   renderer.set_lightmap(lightmap);
   renderer.render(camera);
@@ -282,9 +282,9 @@ TEST(LightmapDisplay, NonConstantMapsFollowUv1PerPixel) {
   n = glm::normalize(n);
   const Scene scene = quad(wanted);
   const Color albedo = scene.materials[0].albedo;
-  RendererOptions options;
+  RenderSettings options;
   options.width = options.height = kFrame;
-  options.shadows = ShadowMode::kNone;
+  options.shadows = "none";
   Renderer renderer(context(), scene, options);
 
   // Per kind: the layers and each layer's weight in the displayed value at normal n.
@@ -316,7 +316,7 @@ TEST(LightmapDisplay, NonConstantMapsFollowUv1PerPixel) {
         random_layer(-0.3f, 0.3f, 8)},
        {0.282095f, sh1 * n.y, sh1 * n.z, sh1 * n.x}}};
   for (const Kind& kind : kinds) {
-    renderer.set_lightmap({kind.kind, kind.layers, 1.0f});
+    renderer.set_lightmap({kind.kind, kind.layers});
     renderer.render(*scene.camera);
     const Image frame = renderer.hdr();
     // Tolerance: each layer's filter bound times its weight's magnitude, plus fp16 output

@@ -32,10 +32,10 @@ class RealtimeInput : public ::testing::Test {
   size_t before_ = 0;
 };
 
-RendererOptions small() {
-  RendererOptions o;
+RenderSettings small() {
+  RenderSettings o;
   o.width = o.height = 16;
-  o.shadow_resolution = 16;
+  o.set("map.resolution", 16);
   return o;
 }
 
@@ -52,7 +52,7 @@ void expect_refused(const std::function<void()>& make, const std::string& needle
 }
 
 void expect_scene_refused(const Scene& scene, const std::string& needle, const std::string& label,
-                          const RendererOptions& o = small()) {
+                          const RenderSettings& o = small()) {
   expect_refused([&] { Renderer r(context(), scene, o); }, needle, label);
 }
 
@@ -60,34 +60,42 @@ TEST_F(RealtimeInput, OptionsOutOfRange) {
   const Scene scene = test::cornell_point_light();
   struct Case {
     const char* needle;
-    std::function<void(RendererOptions&)> set;
+    std::function<void(RenderSettings&)> set;
   };
+  // Every value outside its declared range is refused where it is set (RenderSettings checks
+  // against the declaration), the size and the light index where the renderer starts.
   const Case cases[] = {
-      {"width", [](RendererOptions& o) { o.width = 0; }},
-      {"height", [](RendererOptions& o) { o.height = 0; }},
-      {"width", [](RendererOptions& o) { o.width = -3; }},
-      {"height", [](RendererOptions& o) { o.height = 1 << 20; }},
-      {"shadow_resolution", [](RendererOptions& o) { o.shadow_resolution = 0; }},
-      {"pcf_taps", [](RendererOptions& o) { o.pcf_taps = 0; }},
-      {"pcf_radius", [](RendererOptions& o) { o.pcf_radius = kNaN; }},
-      {"shadow_bias", [](RendererOptions& o) { o.shadow_bias = -1.0f; }},
-      {"exposure", [](RendererOptions& o) { o.exposure = kNaN; }},
-      {"exposure", [](RendererOptions& o) { o.exposure = kInfinity; }},
-      {"key", [](RendererOptions& o) { o.key = 0.0f; }},
-      {"bloom_strength", [](RendererOptions& o) { o.bloom_strength = -1.0f; }},
-      {"ambient", [](RendererOptions& o) { o.ambient = Color(kNaN, 0.0f, 0.0f); }},
-      {"ambient", [](RendererOptions& o) { o.ambient = Color(-1.0f); }},
-      {"single_light", [](RendererOptions& o) { o.single_light = 1; }},  // one light
-      {"single_light", [](RendererOptions& o) { o.single_light = -2; }},
+      {"width", [](RenderSettings& o) { o.width = 0; }},
+      {"height", [](RenderSettings& o) { o.height = 0; }},
+      {"width", [](RenderSettings& o) { o.width = -3; }},
+      {"height", [](RenderSettings& o) { o.height = 1 << 20; }},
+      {"map.resolution", [](RenderSettings& o) { o.set("map.resolution", 0); }},
+      {"map.pcf_taps", [](RenderSettings& o) { o.set("map.pcf_taps", 0); }},
+      {"map.pcf_radius", [](RenderSettings& o) { o.set("map.pcf_radius", kNaN); }},
+      {"map.bias", [](RenderSettings& o) { o.set("map.bias", -1.0f); }},
+      {"tonemap.exposure", [](RenderSettings& o) { o.set("tonemap.exposure", kNaN); }},
+      {"tonemap.exposure", [](RenderSettings& o) { o.set("tonemap.exposure", kInfinity); }},
+      {"tonemap.key", [](RenderSettings& o) { o.set("tonemap.key", 0.0f); }},
+      {"bloom.strength", [](RenderSettings& o) { o.set("bloom.strength", -1.0f); }},
+      {"lighting.ambient", [](RenderSettings& o) { o.set("lighting.ambient", Color(kNaN, 0, 0)); }},
+      {"lighting.ambient", [](RenderSettings& o) { o.set("lighting.ambient", Color(-1.0f)); }},
+      {"single_light", [](RenderSettings& o) { o.set("lighting.single_light", 1); }},  // one light
+      {"single_light", [](RenderSettings& o) { o.set("lighting.single_light", -2); }},
+      {"frame pipeline", [](RenderSettings& o) { o.pipeline = "raytraced"; }},
+      {"shadow method", [](RenderSettings& o) { o.shadows = "soft"; }},
+      {"add-on", [](RenderSettings& o) { o.add_ons.insert("sparkles"); }},
   };
-  for (const Case& c : cases) {
-    RendererOptions o = small();
-    c.set(o);
-    expect_scene_refused(scene, c.needle, c.needle, o);
-  }
-  // Parameters from a file or --param: the same ranges, and the origin is named.
-  const Params params(nlohmann::json{{"width", 0}}, "--param");
-  expect_refused([&] { RendererOptions::from_params(params); }, "--param", "from_params");
+  for (const Case& c : cases)
+    expect_refused(
+        [&] {
+          RenderSettings o = small();
+          c.set(o);
+          Renderer r(context(), scene, o);
+        },
+        c.needle, c.needle);
+  // Parameters from --param: the same ranges, and the origin is named.
+  RenderSettings s;
+  expect_refused([&] { s.set_param("map.resolution", nlohmann::json(0)); }, "--param", "set_param");
 }
 
 TEST_F(RealtimeInput, LightsWithNonFiniteOrNegativeValues) {
@@ -234,14 +242,15 @@ TEST_F(RealtimeInput, CamerasAndOptionChanges) {
   flat.fov_y = 0.0f;
   expect_refused([&] { renderer.render(flat); }, "field of view", "zero field of view");
 
-  // A refused option change leaves the options as they were.
-  RendererOptions bad = renderer.options();
-  bad.exposure = kNaN;
-  expect_refused([&] { renderer.set_options(bad); }, "exposure", "set_options");
-  EXPECT_EQ(renderer.options().exposure, small().exposure);
-  bad = renderer.options();
+  // A refused change leaves the settings as they were.
+  RenderSettings bad = renderer.settings();
   bad.width = 0;
-  expect_refused([&] { renderer.set_options(bad); }, "width", "set_options with width 0");
+  expect_refused([&] { renderer.configure(bad); }, "width", "configure with width 0");
+  EXPECT_EQ(renderer.settings(), small());
+  bad = renderer.settings();
+  bad.set("lighting.single_light", 3);
+  expect_refused([&] { renderer.configure(bad); }, "single_light", "configure: no light 3");
+  EXPECT_EQ(renderer.settings(), small());
   renderer.render(*scene.camera);  // still renders
 }
 

@@ -196,10 +196,10 @@ Reference cpu_reference(const Scene& scene, float texture_rel = 0.0f, float norm
 }
 
 Image render_forward(const Scene& scene) {
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = kSize;
-  o.shadows = ShadowMode::kNone;  // nothing casts a shadow here (the reference checks it)
-  o.auto_exposure = false;
+  o.shadows = "none";  // nothing casts a shadow here (the reference checks it)
+  o.disable("luminance");
   Renderer r(context(), scene, o);
   r.render(*scene.camera);
   return r.hdr();

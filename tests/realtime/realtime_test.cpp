@@ -62,14 +62,15 @@ Agreement compare(const Image& gpu, const Image& cpu, const std::vector<uint8_t>
 
 TEST_F(RealtimeTest, ForwardDirectLightingMatchesCpuReference) {
   const Scene scene = test::cornell_point_light();
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = kSize;
-  o.shadows = ShadowMode::kMap;
-  o.pcf_taps = 1;  // hard shadows: the reference has no penumbra
-  o.shadow_resolution = 512;
-  o.tone_mapper = ToneMapOp::kAces;
-  o.auto_exposure = false;
-  o.exposure = 2.0f;
+  o.shadows = "map";
+  o.set("map.pcf_taps", 1);  // hard shadows: the reference has no penumbra
+  o.set("map.resolution", 512);
+  o.set("vsm.resolution", 512);
+  o.set("tonemap.operator", std::string("aces"));
+  o.disable("luminance");
+  o.set("tonemap.exposure", 2.0f);
   Renderer renderer(context(), scene, o);
   renderer.render(*scene.camera);
   const Image hdr = renderer.hdr();
@@ -82,7 +83,7 @@ TEST_F(RealtimeTest, ForwardDirectLightingMatchesCpuReference) {
   // resolves the shadow boundary only to a texel (≈ 1 pixel at this resolution).
   const std::vector<uint8_t> edge = test::edge_mask(ref, kSize, kSize, 1);
   write_image(std::string(ILLUM_BINARY_DIR) + "/realtime_forward_cpu.png",
-              tone_mapped(ref.radiance, ToneMapper::kAces, o.exposure));
+              tone_mapped(ref.radiance, ToneMapper::kAces, o.get<float>("tonemap.exposure")));
 
   // Radiance: shading math is the same on both sides and the target is fp16 (relative
   // precision 2⁻¹¹), so away from edges the only error is fp16 rounding and the float
@@ -106,7 +107,8 @@ TEST_F(RealtimeTest, ForwardDirectLightingMatchesCpuReference) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) {
       if (edge[static_cast<size_t>(y) * kSize + x]) continue;
-      const Color c = tone_map(ref.radiance.rgb(x, y) * o.exposure, ToneMapper::kAces);
+      const Color c =
+          tone_map(ref.radiance.rgb(x, y) * o.get<float>("tonemap.exposure"), ToneMapper::kAces);
       const Color g = ldr.rgb(x, y);
       float worst = 0.0f;
       for (int k = 0; k < 3; ++k)
@@ -129,9 +131,10 @@ TEST_F(RealtimeTest, ForwardDirectLightingMatchesCpuReference) {
 
 TEST_F(RealtimeTest, PassesAreTimedAndShadowMapsRunOnlyOnChange) {
   const Scene scene = test::cornell_point_light();
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = 64;
-  o.shadow_resolution = 64;
+  o.set("map.resolution", 64);
+  o.set("vsm.resolution", 64);
   Renderer renderer(context(), scene, o);
   renderer.render(*scene.camera);
   auto names = [&] {
@@ -157,57 +160,118 @@ TEST_F(RealtimeTest, PassesAreTimedAndShadowMapsRunOnlyOnChange) {
   }
 }
 
-// `illum view` changes per-frame values in place: the frame after set_options() must equal
-// a frame from a renderer built with those options, and structural changes are refused.
-TEST_F(RealtimeTest, SetOptionsMatchesAFreshRenderer) {
+// Cube faces re-rendered two a frame in turn (map.views_per_frame = 2, the round-robin
+// schedule): the pass runs every frame, each frame renders only its faces into the cube
+// array (the others keep their contents through the layout transitions), so with a still
+// light every frame is the frame of a renderer that renders all six at once; after the light
+// moves all six are due at once again.
+TEST_F(RealtimeTest, RoundRobinShadowViewsMatchAllAtOnce) {
   const Scene scene = test::cornell_point_light();
-  RendererOptions o;
+  RenderSettings o;
+  o.width = o.height = 48;
+  o.set("map.resolution", 64);
+  RenderSettings k = o;
+  k.set("map.views_per_frame", 2);
+  Renderer all(context(), scene, o), turns(context(), scene, k);
+  std::vector<Light> lights = scene.lights;
+  for (int f = 0; f < 5; ++f) {
+    if (f == 3) {  // the light moves: every face is due in both
+      lights[0].position.x += 0.1f;
+      all.update_lights(lights);
+      turns.update_lights(lights);
+    }
+    all.render(*scene.camera);
+    turns.render(*scene.camera);
+    EXPECT_EQ(all.hdr().data(), turns.hdr().data()) << "frame " << f;
+    if (context().timestamps()) {
+      bool ran = false;
+      for (const auto& t : turns.pass_times()) ran |= t.name == "shadow_maps";
+      EXPECT_TRUE(ran) << "frame " << f << ": round-robin views run every frame";
+    }
+  }
+}
+
+// `illum view` changes settings in the running renderer (Renderer::configure): per-frame
+// values in place, a technique switched, replaced or with a structural parameter changed
+// built anew and nothing else. After every step the frame must be the bytes of a renderer
+// built with those settings, and configure() must name exactly the techniques it built.
+TEST_F(RealtimeTest, ConfigureMatchesAFreshRendererAndRebuildsOnlyWhatChanged) {
+  const Scene scene = test::cornell_point_light();
+  RenderSettings o;
   o.width = o.height = 32;
-  o.shadow_resolution = 32;
-  o.bloom_strength = 0.2f;
+  o.set("map.resolution", 32);
+  o.set("vsm.resolution", 32);
+  o.enable("bloom");
+  o.set("bloom.strength", 0.2f);
   Renderer live(context(), scene, o);
   live.render(*scene.camera);
-  const Image before = live.ldr();
-  RendererOptions changed = o;
-  changed.ambient = Color(0.3f);
-  changed.half_lambert = true;
-  changed.pcf_taps = 4;
-  changed.pcf_radius = 3.0f;
-  changed.tone_mapper = ToneMapOp::kReinhard;
-  changed.auto_exposure = false;
-  changed.exposure = 2.0f;
-  changed.bloom_strength = 0.5f;
-  changed.bloom_threshold = 0.5f;
-  ASSERT_TRUE(live.set_options(changed));
+  Image before = live.ldr();
+  using Names = std::vector<std::string>;
+  auto step = [&](const RenderSettings& next, const Names& rebuilt, const std::string& label,
+                  bool changes_image = false) {
+    EXPECT_EQ(live.configure(next), rebuilt) << label;
+    live.render(*scene.camera);
+    Renderer fresh(context(), scene, next);
+    fresh.render(*scene.camera);
+    const Image a = live.ldr(), b = fresh.ldr();
+    ASSERT_EQ(a.width(), b.width()) << label;
+    double max_diff = 0.0, change = 0.0;
+    for (size_t i = 0; i < a.data().size(); ++i) {
+      max_diff = std::max<double>(max_diff, std::abs(a.data()[i] - b.data()[i]));
+      if (a.width() == before.width())
+        change = std::max<double>(change, std::abs(a.data()[i] - before.data()[i]));
+    }
+    // Same inputs, same device: the same bytes.
+    EXPECT_LE(max_diff, 1e-6) << label;
+    if (changes_image) {
+      EXPECT_GT(change, 0.1) << label << ": the image did change";
+    }
+    before = a;
+  };
+  // Per-frame values only (bloom's strength, the tone mapper, auto-exposure off): nothing
+  // is built anew.
+  RenderSettings changed = o;
+  changed.set("lighting.ambient", Color(0.3f));
+  changed.set("lighting.half_lambert", true);
+  changed.set("map.pcf_taps", 4);
+  changed.set("map.pcf_radius", 3.0f);
+  changed.set("tonemap.operator", std::string("reinhard"));
+  changed.disable("luminance");
+  changed.set("tonemap.exposure", 2.0f);
+  changed.set("bloom.strength", 0.5f);
+  changed.set("bloom.threshold", 0.5f);
+  step(changed, {}, "per-frame values", true);
+  changed.enable("luminance");
+  changed.disable("bloom");
+  step(changed, {"luminance"}, "luminance on, bloom off", true);
+  changed.pipeline = "deferred";
+  step(changed, {"deferred"}, "deferred");
+  changed.shadows = "vsm";  // the pipeline shadows through lookups with either
+  step(changed, {"vsm"}, "vsm");
+  changed.shadows = "volume";  // the pipeline now adds each light through the stencil
+  step(changed, {"volume", "deferred"}, "volume");
+  changed.set("volume.silhouettes", std::string("cpu"));
+  step(changed, {"volume"}, "cpu silhouettes");
+  changed.set("deferred.lighting", std::string("volumes"));
+  step(changed, {"deferred"}, "deferred light volumes");
+  changed.width = 24;
+  step(changed, {}, "a new size");
+  // A change the renderer cannot make leaves it as it was.
+  RenderSettings bad = changed;
+  bad.disable("tonemap");
+  EXPECT_THROW(live.configure(bad), Error);
+  EXPECT_EQ(live.settings(), changed);
   live.render(*scene.camera);
-  Renderer fresh(context(), scene, changed);
-  fresh.render(*scene.camera);
-  const Image a = live.ldr(), b = fresh.ldr();
-  double max_diff = 0.0, change = 0.0;
-  for (size_t i = 0; i < a.data().size(); ++i) {
-    max_diff = std::max<double>(max_diff, std::abs(a.data()[i] - b.data()[i]));
-    change = std::max<double>(change, std::abs(a.data()[i] - before.data()[i]));
-  }
-  // Same inputs, same device: the same bytes.
-  EXPECT_LE(max_diff, 1e-6);
-  EXPECT_GT(change, 0.1);  // and the image did change
-  RendererOptions structural = changed;
-  structural.technique = Technique::kDeferred;
-  EXPECT_FALSE(live.set_options(structural));
-  structural = changed;
-  structural.bloom_strength = 0.0f;  // bloom passes exist only when it is on
-  EXPECT_FALSE(live.set_options(structural));
-  EXPECT_EQ(live.options().technique, Technique::kForward);
 }
 
 TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
   const Scene scene = test::cornell_point_light();
-  for (ToneMapOp op :
-       {ToneMapOp::kClamp, ToneMapOp::kReinhard, ToneMapOp::kAces, ToneMapOp::kAgx}) {
-    RendererOptions o;
+  for (const std::string op : {"clamp", "reinhard", "aces", "agx"}) {
+    RenderSettings o;
     o.width = o.height = 32;
-    o.shadow_resolution = 32;
-    o.tone_mapper = op;
+    o.set("map.resolution", 32);
+    o.set("vsm.resolution", 32);
+    o.set("tonemap.operator", op);
     Renderer renderer(context(), scene, o);
     renderer.render(*scene.camera);
     const Image ldr = renderer.ldr();
@@ -224,8 +288,8 @@ TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
     mean /= 32 * 32;
     // Auto-exposure maps the log-average to the key 0.18: the mean display value is
     // neither black nor white for every operator.
-    EXPECT_GT(mean, 0.02) << static_cast<int>(op);
-    EXPECT_LT(mean, 0.9) << static_cast<int>(op);
+    EXPECT_GT(mean, 0.02) << op;
+    EXPECT_LT(mean, 0.9) << op;
   }
 }
 
@@ -234,13 +298,14 @@ TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
 // (clamp mapper, so nothing but the exposure shapes it) must be HDR × exposure × key / L_avg.
 TEST_F(RealtimeTest, AutoExposureScalesByKeyOverLogAverage) {
   const Scene scene = test::cornell_point_light();
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = 32;
-  o.shadow_resolution = 64;
-  o.tone_mapper = ToneMapOp::kClamp;
-  o.auto_exposure = true;
-  o.exposure = 0.8f;
-  o.key = 0.2f;
+  o.set("map.resolution", 64);
+  o.set("vsm.resolution", 64);
+  o.set("tonemap.operator", std::string("clamp"));
+  o.enable("luminance");
+  o.set("tonemap.exposure", 0.8f);
+  o.set("tonemap.key", 0.2f);
   Renderer renderer(context(), scene, o);
   renderer.render(*scene.camera);
   const Image hdr = renderer.hdr();
@@ -273,7 +338,7 @@ TEST_F(RealtimeTest, AutoExposureScalesByKeyOverLogAverage) {
 
   // The display values: srgb(clamp(HDR × s)) with s = exposure · key / L_avg, stored in 8
   // bits (either nearest code: < 1 code), plus what the bound above moves s by.
-  const double scale = o.exposure * o.key / average;
+  const double scale = o.get<float>("tonemap.exposure") * o.get<float>("tonemap.key") / average;
   size_t compared = 0, outside = 0;
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 32; ++x)
@@ -291,12 +356,20 @@ TEST_F(RealtimeTest, AutoExposureScalesByKeyOverLogAverage) {
 }
 
 TEST_F(RealtimeTest, UnknownOptionNamesAreErrors) {
-  EXPECT_THROW(tone_map_op_from_string("filmic"), Error);
-  EXPECT_THROW(shadow_mode_from_string("soft"), Error);
-  EXPECT_THROW(technique_from_string("raytraced"), Error);
-  EXPECT_THROW(silhouette_source_from_string("fast"), Error);
-  const Params params(nlohmann::json{{"silhouettes", "fast"}}, "test");
-  EXPECT_THROW(RendererOptions::from_params(params), Error);
+  RenderSettings s;
+  EXPECT_THROW(s.set("tonemap.operator", std::string("filmic")), Error);
+  EXPECT_THROW(s.set("volume.silhouettes", std::string("fast")), Error);
+  EXPECT_THROW(s.set("map.pcf_taps", 1.5f), Error);  // not an integer
+  EXPECT_THROW(s.set("map.pcf_tapz", 4), Error);
+  EXPECT_THROW(s.set_param("silhouettes", nlohmann::json("fast")), Error);
+  EXPECT_THROW(s.enable("forward"), Error);
+  s.shadows = "soft";
+  EXPECT_THROW(s.check(), Error);
+  s.shadows = "map";
+  s.pipeline = "raytraced";
+  EXPECT_THROW(s.check(), Error);
+  s.pipeline = "forward";
+  EXPECT_NO_THROW(s.check());
 }
 
 // GPU silhouettes keep each light's worst case (24 vertices of 16 bytes a triangle); a scene
@@ -326,23 +399,24 @@ TEST_F(RealtimeTest, GpuSilhouettesRefuseScenesBeyondOneStorageBuffer) {
 // "stencil_volumes" and "volume_lighting".
 TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
   const Scene scene = test::cornell_point_light();
-  for (const Technique technique : {Technique::kForward, Technique::kDeferred})
-    for (const SilhouetteSource source : {SilhouetteSource::kGpu, SilhouetteSource::kCpu}) {
-      RendererOptions o;
+  for (const std::string technique : {"forward", "deferred"})
+    for (const std::string source : {"gpu", "cpu"}) {
+      RenderSettings o;
       o.width = o.height = 32;
-      o.technique = technique;
-      o.shadows = ShadowMode::kVolume;
-      o.silhouettes = source;
+      o.pipeline = technique;
+      o.shadows = "volume";
+      o.set("volume.silhouettes", std::string(source));
       Renderer renderer(context(), scene, o);
       auto names = [&] {
         std::vector<std::string> n;
         for (const auto& t : renderer.pass_times()) n.push_back(t.name);
         return n;
       };
-      const bool gpu = source == SilhouetteSource::kGpu;
-      const std::string shading = technique == Technique::kForward ? "forward" : "gbuffer";
-      std::vector<std::string> steady = {shading, "stencil_volumes", "volume_lighting", "luminance",
-                                         "tonemap"};
+      const bool gpu = source == "gpu";
+      const std::string shading = technique == "forward" ? "forward" : "gbuffer";
+      // The per-light steps are scopes nested in the pass (depth 1).
+      std::vector<std::string> steady = {shading,           "shadow_volumes", "stencil_volumes",
+                                         "volume_lighting", "luminance",      "tonemap"};
       std::vector<std::string> rebuilt = steady;
       if (gpu)
         rebuilt.insert(rebuilt.begin(), "silhouettes");
@@ -353,6 +427,9 @@ TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
       auto expect = [&](const std::vector<std::string>& want) {
         if (context().timestamps()) {
           EXPECT_EQ(names(), want) << label;
+          for (const auto& t : renderer.pass_times())
+            EXPECT_EQ(t.depth, t.name == "stencil_volumes" || t.name == "volume_lighting" ? 1 : 0)
+                << label << " " << t.name;
         } else {
           const bool cpu_entry =
               std::find(want.begin(), want.end(), "cpu:silhouettes") != want.end();
@@ -372,14 +449,15 @@ TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
       renderer.update_lights(lights);
       renderer.render(*scene.camera);
       expect(rebuilt);
-      RendererOptions back = o;
-      back.volume_back_faces = true;
-      ASSERT_TRUE(renderer.set_options(back));
+      RenderSettings back = o;
+      back.set("volume.back_faces", true);
+      EXPECT_TRUE(renderer.configure(back).empty()) << "back_faces is a per-frame parameter";
       renderer.render(*scene.camera);
       expect(rebuilt);
-      RendererOptions other = back;
-      other.silhouettes = gpu ? SilhouetteSource::kCpu : SilhouetteSource::kGpu;
-      EXPECT_FALSE(renderer.set_options(other)) << "the silhouette source is structural";
+      RenderSettings other = back;
+      other.set("volume.silhouettes", std::string(gpu ? "cpu" : "gpu"));
+      EXPECT_EQ(renderer.configure(other), std::vector<std::string>{"volume"})
+          << "the silhouette source is structural: the shadow method alone is built anew";
     }
 }
 
@@ -419,10 +497,10 @@ TEST_F(RealtimeTest, AreaLightMatchesExactIrradianceFarFromTheEmitter) {
   camera.look_at = vec3(0.0f, 0.0f, 0.2f);
   camera.fov_y = radians(60.0f);
 
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = kSize;
-  o.shadows = ShadowMode::kMap;
-  o.pcf_taps = 1;
+  o.shadows = "map";
+  o.set("map.pcf_taps", 1);
   Renderer renderer(context(), scene, o);
   renderer.render(camera);
   const Image hdr = renderer.hdr();
@@ -475,19 +553,20 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   second.intensity = Color(0.2f, 0.3f, 0.5f);
   second.range = 0.6f;  // exercises the light-volume path and the radius window
   scene.lights.push_back(second);
-  auto render = [&](Technique t, DeferredLighting lighting = DeferredLighting::kCompute,
-                    ShadowMode shadows = ShadowMode::kMap) {
-    RendererOptions o;
+  auto render = [&](const std::string& t, const std::string& lighting = "compute",
+                    const std::string& shadows = "map") {
+    RenderSettings o;
     o.width = o.height = kSize;
-    o.technique = t;
-    o.deferred_lighting = lighting;
+    o.pipeline = t;
+    o.set("deferred.lighting", std::string(lighting));
     o.shadows = shadows;
-    o.shadow_resolution = 256;
+    o.set("map.resolution", 256);
+    o.set("vsm.resolution", 256);
     Renderer r(context(), scene, o);
     r.render(*scene.camera);
     return r.hdr();
   };
-  const Image forward = render(Technique::kForward);
+  const Image forward = render("forward");
   const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
   std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
   // Geometry edges only (shadows are identical lookups in both paths).
@@ -505,9 +584,9 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
     for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
   mean /= kSize * kSize;
   // Both deferred lighting paths: the compute pass and the light volumes (stencil trick).
-  for (const DeferredLighting lighting : {DeferredLighting::kCompute, DeferredLighting::kVolumes}) {
-    const char* name = lighting == DeferredLighting::kCompute ? "compute" : "volumes";
-    const Image deferred = render(Technique::kDeferred, lighting);
+  for (const std::string lighting : {"compute", "volumes"}) {
+    const char* name = lighting.c_str();
+    const Image deferred = render("deferred", lighting);
     const Agreement a = compare(deferred, forward, edge, 0.01f, 0.01f * static_cast<float>(mean));
     std::printf("deferred (%s) vs forward: %.4f of %zu pixels within 1%% (mean rel %.5f)\n", name,
                 static_cast<double>(a.within) / a.compared, a.compared, a.mean_rel);
@@ -516,10 +595,8 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   // Stencil shadow volumes: the deferred path counts the same volumes against the G-buffer
   // depth and lights with the same functions, so its image is the forward one (shadowed
   // pixels included: both stencil counts read one depth buffer built the same way).
-  const Image forward_volumes =
-      render(Technique::kForward, DeferredLighting::kCompute, ShadowMode::kVolume);
-  const Image deferred_volumes =
-      render(Technique::kDeferred, DeferredLighting::kCompute, ShadowMode::kVolume);
+  const Image forward_volumes = render("forward", "compute", "volume");
+  const Image deferred_volumes = render("deferred", "compute", "volume");
   const Agreement a =
       compare(deferred_volumes, forward_volumes, edge, 0.01f, 0.01f * static_cast<float>(mean));
   std::printf(
@@ -546,13 +623,17 @@ TEST_F(RealtimeTest, BloomAddsOnlyAboveThreshold) {
   test::add_quad(scene, {0.45f, 0.99f, 0.45f}, {0.55f, 0.99f, 0.45f}, {0.55f, 0.99f, 0.55f},
                  {0.45f, 0.99f, 0.55f}, 3);
   auto render = [&](float strength, float threshold) {
-    RendererOptions o;
+    RenderSettings o;
     o.width = o.height = 64;
-    o.shadow_resolution = 64;
-    o.auto_exposure = false;
-    o.tone_mapper = ToneMapOp::kAces;
-    o.bloom_strength = strength;
-    o.bloom_threshold = threshold;
+    o.set("map.resolution", 64);
+    o.set("vsm.resolution", 64);
+    o.disable("luminance");
+    o.set("tonemap.operator", std::string("aces"));
+    if (strength > 0.0f) {
+      o.enable("bloom");
+      o.set("bloom.strength", strength);
+    }
+    o.set("bloom.threshold", threshold);
     Renderer r(context(), scene, o);
     r.render(*scene.camera);
     return r.ldr();
@@ -637,12 +718,12 @@ TEST_F(RealtimeTest, LightmapsPlainRnmAndShL1) {
   for (bool mapped : {false, true}) {
     const vec3 n = mapped ? tilted : vec3(0, 0, 1);
     const Scene scene = lightmap_quad(mapped, n);
-    RendererOptions options;
+    RenderSettings options;
     options.width = options.height = 32;
-    options.shadows = ShadowMode::kNone;
+    options.shadows = "none";
     Renderer renderer(context(), scene, options);
     // Plain: albedo × L × N_z.
-    expect_color_near(centre_pixel(renderer, scene, {LightmapKind::kPlain, {constant(l0)}, 1.0f}),
+    expect_color_near(centre_pixel(renderer, scene, {LightmapKind::kPlain, {constant(l0)}}),
                       albedo * l0 * n.z);
     // RNM: weights max(n·b_i, 0)² normalised.
     const vec3 b[3] = {{0.816496581f, 0.0f, 0.577350269f},
@@ -657,22 +738,21 @@ TEST_F(RealtimeTest, LightmapsPlainRnmAndShL1) {
     const Color rnm = albedo * (w[0] * l0 + w[1] * l1 + w[2] * l2) / sum;
     expect_color_near(
         centre_pixel(renderer, scene,
-                     {LightmapKind::kRnm, {constant(l0), constant(l1), constant(l2)}, 1.0f}),
+                     {LightmapKind::kRnm, {constant(l0), constant(l1), constant(l2)}}),
         rnm);
     // SH-L1: E(n)/π = c0·Y00 + (2/3)(c1·Y1−1 + c2·Y10 + c3·Y11).
     const Color e = 0.282095f * l0 + (2.0f / 3.0f) * 0.488603f * (l1 * n.y + l2 * n.z + l3 * n.x);
-    expect_color_near(
-        centre_pixel(
-            renderer, scene,
-            {LightmapKind::kShL1, {constant(l0), constant(l1), constant(l2), constant(l3)}, 1.0f}),
-        albedo * glm::max(e, Color(0.0f)));
+    expect_color_near(centre_pixel(renderer, scene,
+                                   {LightmapKind::kShL1,
+                                    {constant(l0), constant(l1), constant(l2), constant(l3)}}),
+                      albedo * glm::max(e, Color(0.0f)));
   }
   // A wrong layer count is bad input.
   const Scene scene = lightmap_quad(false, vec3(0, 0, 1));
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = 8;
   Renderer r(context(), scene, o);
-  EXPECT_THROW(r.set_lightmap({LightmapKind::kRnm, {constant(l0)}, 1.0f}), Error);
+  EXPECT_THROW(r.set_lightmap({LightmapKind::kRnm, {constant(l0)}}), Error);
 }
 
 }  // namespace
@@ -700,10 +780,10 @@ TEST_F(RealtimeTest, AmbientCubesLightProbedInstances) {
                       {px, Color(9.0f), Color(9.0f), Color(9.0f), pz, Color(9.0f)});
   }
   grid.instances = {0};
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = 32;
-  o.shadows = ShadowMode::kNone;
-  o.ambient = Color(5.0f);  // must be replaced by the cube for the probed instance
+  o.shadows = "none";
+  o.set("lighting.ambient", Color(5.0f));  // must be replaced by the cube for the probed instance
   Renderer r(context(), scene, o);
   r.set_ambient_cubes(grid);
   r.render(*scene.camera);
@@ -732,9 +812,9 @@ TEST_F(RealtimeTest, PrtTransferRelitUnderMovingLight) {
   sun.direction = vec3(0, 0, -1);
   scene.lights = {sun};
   const vec4 t(kPi * 0.282095f, 0.0f, 2.0f * kPi / 3.0f * 0.488603f, 0.0f);  // n = +z
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = 32;
-  o.shadows = ShadowMode::kNone;
+  o.shadows = "none";
   Renderer r(context(), scene, o);
   r.set_prt_transfer(std::vector<vec4>(4, t));
   for (float degrees : {0.0f, 60.0f, 120.0f}) {

@@ -66,21 +66,22 @@ test::Reference ray_traced_mask(const Scene& scene, std::vector<uint8_t>* cast =
 
 struct Case {
   const char* name;
-  ShadowMode mode;
+  std::string mode;   // shadow method
   bool back = false;  // volumes from back-facing casters
-  Technique technique = Technique::kForward;
-  SilhouetteSource silhouettes = SilhouetteSource::kGpu;
+  std::string technique = "forward";
+  std::string silhouettes = "gpu";
 };
 
 Image render_hdr(const Scene& scene, const Case& c) {
-  RendererOptions o;
+  RenderSettings o;
   o.width = o.height = kSize;
   o.shadows = c.mode;
-  o.pcf_taps = 1;
-  o.shadow_resolution = 512;
-  o.volume_back_faces = c.back;
-  o.technique = c.technique;
-  o.silhouettes = c.silhouettes;
+  o.set("map.pcf_taps", 1);
+  o.set("map.resolution", 512);
+  o.set("vsm.resolution", 512);
+  o.set("volume.back_faces", c.back);
+  o.pipeline = c.technique;
+  o.set("volume.silhouettes", c.silhouettes);
   Renderer r(context(), scene, o);
   r.render(*scene.camera);
   return r.hdr();
@@ -133,7 +134,7 @@ void check_agreement(const Scene& scene) {
   const test::Reference ref = ray_traced_mask(scene, &cast);
   const std::vector<uint8_t> edge = test::edge_mask(ref, kSize, kSize, 1);
 
-  const Image unshadowed = render_hdr(scene, {"none", ShadowMode::kNone});
+  const Image unshadowed = render_hdr(scene, {"none", "none"});
   const Agreement control = agreement(gpu_mask(unshadowed, unshadowed), ref, cast, edge);
   std::printf("%-24s in shadow %.4f of %zu pixels, lit %.4f of %zu\n", "no shadows (control)",
               control.in_shadow(), control.cast, control.in_light(), control.lit);
@@ -144,10 +145,10 @@ void check_agreement(const Scene& scene) {
   // And a mask that shadows everything fails the lit criterion.
   EXPECT_LT(agreement(std::vector<uint8_t>(kSize * kSize, 1), ref, cast, edge).in_light(), 0.99);
 
-  const Technique fwd = Technique::kForward, deferred = Technique::kDeferred;
-  const SilhouetteSource gpu = SilhouetteSource::kGpu, cpu = SilhouetteSource::kCpu;
-  const ShadowMode volume = ShadowMode::kVolume;
-  for (const Case& c : {Case{"shadow map", ShadowMode::kMap}, Case{"VSM", ShadowMode::kVsm},
+  const std::string fwd = "forward", deferred = "deferred";
+  const std::string gpu = "gpu", cpu = "cpu";
+  const std::string volume = "volume";
+  for (const Case& c : {Case{"shadow map", "map"}, Case{"VSM", "vsm"},
                         Case{"volumes, front, CPU", volume, false, fwd, cpu},
                         Case{"volumes, back, CPU", volume, true, fwd, cpu},
                         Case{"volumes, front, GPU", volume, false, fwd, gpu},
@@ -174,11 +175,11 @@ void check_gpu_silhouettes_match_cpu(const Scene& scene) {
   const size_t before = context().validation_message_count();
   const test::Reference ref = ray_traced_mask(scene);
   const std::vector<uint8_t> edge = test::edge_mask(ref, kSize, kSize, 1);
-  const Image unshadowed = render_hdr(scene, {"none", ShadowMode::kNone});
+  const Image unshadowed = render_hdr(scene, {"none", "none"});
   for (const bool back : {false, true}) {
-    const Case cpu{"CPU", ShadowMode::kVolume, back, Technique::kForward, SilhouetteSource::kCpu};
+    const Case cpu{"CPU", "volume", back, "forward", "cpu"};
     Case gpu = cpu;
-    gpu.silhouettes = SilhouetteSource::kGpu;
+    gpu.silhouettes = "gpu";
     const std::vector<uint8_t> a = gpu_mask(render_hdr(scene, cpu), unshadowed);
     const std::vector<uint8_t> b = gpu_mask(render_hdr(scene, gpu), unshadowed);
     size_t differ = 0, differ_off_edge = 0, cast = 0;

@@ -53,11 +53,21 @@ class GpuImage {
   VkExtent2D extent() const { return {desc_.width, desc_.height}; }
   VkImageAspectFlags aspect() const;
   VkImageLayout layout() const { return layout_; }
+  // The stages and accesses of the last recorded use (the source of the next barrier).
+  VkPipelineStageFlags2 stage() const { return stage_; }
+  VkAccessFlags2 access() const { return access_; }
   explicit operator bool() const { return image_ != VK_NULL_HANDLE; }
 
   // Barrier from the last recorded use to (layout, stage, access); all mips and layers.
   void transition(VkCommandBuffer cmd, VkImageLayout layout, VkPipelineStageFlags2 stage,
                   VkAccessFlags2 access);
+  // Records that a barrier recorded elsewhere (the frame graph's) left the image in this
+  // state, so later transition(), upload() and readback() start from it.
+  void assume_state(VkImageLayout layout, VkPipelineStageFlags2 stage, VkAccessFlags2 access) {
+    layout_ = layout;
+    stage_ = stage;
+    access_ = access;
+  }
 
   // Fills mip 0 of layer `layer` from `image` (converted to the image's format), builds the
   // remaining mips by blits, and leaves the image SHADER_READ_ONLY.

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "illum/atlas/lightmap_file.h"
-#include "illum/realtime/renderer.h"
+#include "illum/realtime/baked_data.h"
 #include "illum/scene/scene.h"
 
 namespace illum::realtime {

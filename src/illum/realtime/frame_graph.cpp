@@ -1,105 +1,531 @@
 #include "illum/realtime/frame_graph.h"
 
 #include <algorithm>
-#include <map>
+#include <chrono>
+#include <numeric>
 
 #include "illum/core/error.h"
+#include "illum/gpu/buffer.h"
+#include "illum/gpu/gpu_image.h"
 
 namespace illum::realtime {
 
-void FrameGraph::add_pass(PassDesc pass) {
-  ILLUM_CHECK(!has_pass(pass.name), "duplicate pass '{}'", pass.name);
-  ILLUM_CHECK(pass.period >= 1, "pass '{}' period must be ≥ 1", pass.name);
-  passes_.push_back({std::move(pass), true});
+namespace {
+
+constexpr Uses kWriteUses =
+    kStorageWrite | kColorAttachment | kDepthAttachment | kDepthReadOnly | kTransferDst;
+// Uses that need contents written before (attachments may load, but a pass that only
+// renders to a target may also clear it, so they do not count).
+constexpr Uses kReadUses =
+    kSampled | kStorageRead | kDepthReadOnly | kTransferSrc | kVertexInput | kIndirectArgs;
+constexpr VkAccessFlags2 kWriteAccess = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                                        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+                                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                                        VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT;
+constexpr VkPipelineStageFlags2 kFragmentTests =
+    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+constexpr const char* kPrevious = ".previous";
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+uint32_t usage_of(Uses uses, bool image) {
+  uint32_t u = 0;
+  if (image) {
+    if (uses & kSampled) u |= VK_IMAGE_USAGE_SAMPLED_BIT;
+    if (uses & (kStorageRead | kStorageWrite)) u |= VK_IMAGE_USAGE_STORAGE_BIT;
+    if (uses & kColorAttachment) u |= VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    if (uses & (kDepthAttachment | kDepthReadOnly))
+      u |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    if (uses & kTransferSrc) u |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    if (uses & kTransferDst) u |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  } else {
+    if (uses & (kStorageRead | kStorageWrite)) u |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    if (uses & kVertexInput) u |= VK_BUFFER_USAGE_VERTEX_BUFFER_BIT;
+    if (uses & kIndirectArgs) u |= VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+    if (uses & kTransferSrc) u |= VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    if (uses & kTransferDst) u |= VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  }
+  return u;
+}
+
+}  // namespace
+
+void merge_access(std::vector<Access>* accesses, const Access& access) {
+  for (Access& a : *accesses)
+    if (a.resource == access.resource) {
+      a.uses |= access.uses;
+      a.shaders |= access.shaders;
+      return;
+    }
+  accesses->push_back(access);
+}
+
+bool writes(Uses uses) {
+  return (uses & kWriteUses) != 0;
+}
+
+bool is_depth_format(VkFormat f) {
+  return gpu::is_depth_format(f);
+}
+
+UseState use_state(Uses uses, VkPipelineStageFlags2 shaders, bool image, bool depth) {
+  UseState s;
+  s.write = writes(uses);
+  // The layout every image use asks for; two uses in one access must agree.
+  auto want = [&](VkImageLayout layout) {
+    if (!image) return;
+    ILLUM_CHECK(s.layout == VK_IMAGE_LAYOUT_UNDEFINED || s.layout == layout,
+                "one access asks for two image layouts ({} and {})", static_cast<int>(s.layout),
+                static_cast<int>(layout));
+    s.layout = layout;
+  };
+  if (uses & kDepthReadOnly) {
+    want(VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL);
+    s.stages |= kFragmentTests;
+    s.access |= VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  }
+  if (uses & kSampled) {
+    // A sampled depth buffer stays in the read-only depth layout the light passes also
+    // test it in (descriptors are written with that layout).
+    if (!(uses & kDepthReadOnly))
+      want(depth ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL
+                 : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    s.stages |= shaders;
+    s.access |= VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
+  }
+  if (uses & (kStorageRead | kStorageWrite)) {
+    want(VK_IMAGE_LAYOUT_GENERAL);
+    s.stages |= shaders;
+    if (uses & kStorageRead) s.access |= VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+    if (uses & kStorageWrite) s.access |= VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  }
+  if (uses & kColorAttachment) {
+    want(VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    s.stages |= VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    s.access |= VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  }
+  if (uses & kDepthAttachment) {
+    want(VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    s.stages |= kFragmentTests;
+    s.access |= VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  }
+  if (uses & (kTransferSrc | kTransferDst)) {
+    ILLUM_CHECK(!((uses & kTransferSrc) && (uses & kTransferDst) && image),
+                "an image access cannot be both transfer source and destination");
+    want(uses & kTransferSrc ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL
+                             : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+    s.stages |= VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
+    if (uses & kTransferSrc) s.access |= VK_ACCESS_2_TRANSFER_READ_BIT;
+    if (uses & kTransferDst) s.access |= VK_ACCESS_2_TRANSFER_WRITE_BIT;
+  }
+  if (uses & kVertexInput) {
+    ILLUM_CHECK(!image, "vertex input from an image");
+    s.stages |= VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT;
+    s.access |= VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT;
+  }
+  if (uses & kIndirectArgs) {
+    ILLUM_CHECK(!image, "indirect arguments from an image");
+    s.stages |= VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
+    s.access |= VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT;
+  }
+  ILLUM_CHECK(uses != 0 && s.stages != VK_PIPELINE_STAGE_2_NONE, "an access without a use");
+  return s;
+}
+
+std::optional<Barrier> barrier_for(ResourceState* state, const UseState& next, bool image) {
+  const bool layout_change = image && state->layout != next.layout;
+  const bool after_write = (state->access & kWriteAccess) != 0;
+  const bool uncovered = (next.stages & ~state->stages) != 0 || (next.access & ~state->access) != 0;
+  const bool untouched = state->stages == VK_PIPELINE_STAGE_2_NONE;
+  if (!layout_change && !next.write && !after_write && !uncovered) {
+    return std::nullopt;  // read after reads the last barrier covered
+  }
+  if (!layout_change && untouched) {
+    // A buffer's first use: nothing before it to wait for.
+    state->stages = next.stages;
+    state->access = next.access;
+    return std::nullopt;
+  }
+  // Otherwise a barrier; for a read by new stages its source is the stages the last one
+  // covered, which chains it to the last write.
+  Barrier b;
+  b.old_layout = state->layout;
+  b.new_layout = image ? next.layout : VK_IMAGE_LAYOUT_UNDEFINED;
+  b.src_stages = state->stages;
+  b.src_access = state->access & kWriteAccess;  // only writes need to be made available
+  b.dst_stages = next.stages;
+  b.dst_access = next.access;
+  state->layout = b.new_layout;
+  if (!layout_change && !after_write && !next.write) {
+    // Visibility for more readers: the readers before stay covered.
+    state->stages |= next.stages;
+    state->access |= next.access;
+  } else {
+    state->stages = next.stages;
+    state->access = next.access;
+  }
+  return b;
+}
+
+Schedule Schedule::every_n(int period, int phase, Changes changes) {
+  Schedule s;
+  s.kind = Kind::kEveryN;
+  s.period = period;
+  s.phase = phase;
+  s.invalidated_by = changes;
+  return s;
+}
+
+Schedule Schedule::round_robin(int items, int per_frame, Changes changes) {
+  Schedule s;
+  s.kind = Kind::kRoundRobin;
+  s.items = items;
+  s.per_frame = per_frame;
+  s.invalidated_by = changes;
+  return s;
+}
+
+Schedule Schedule::on_change(Changes changes, int items) {
+  Schedule s;
+  s.kind = Kind::kOnChange;
+  s.items = items;
+  s.invalidated_by = changes;
+  return s;
+}
+
+bool ResourceDesc::same_shape(const ResourceDesc& o) const {
+  return kind == o.kind && width == o.width && height == o.height &&
+         frame_divisor == o.frame_divisor && format == o.format && layers == o.layers &&
+         cube == o.cube && cube_array == o.cube_array && array == o.array && bytes == o.bytes &&
+         history == o.history && external == o.external && usage == o.usage;
+}
+
+PassContext::Scope::Scope(gpu::GpuTimer* timer, VkCommandBuffer cmd, const std::string& name)
+    : timer_(cmd ? timer : nullptr), cmd_(cmd) {
+  if (timer_) scope_ = timer_->begin(cmd_, name);
+}
+
+PassContext::Scope::~Scope() {
+  if (timer_) timer_->end(cmd_, scope_);
+}
+
+void PassContext::use(const std::string& resource, Uses uses, VkPipelineStageFlags2 shaders) {
+  // Only what the pass declared: the usage flags and the order checks come from there.
+  Uses declared = 0;
+  for (const Access& a : pass_->accesses)
+    if (a.resource == resource) declared |= a.uses;
+  ILLUM_CHECK((uses & ~declared) == 0, "pass '{}' uses '{}' in a way it did not declare",
+              pass_->name, resource);
+  graph_->apply(resource, frame_, cmd_, uses, shaders);
+}
+
+bool PassContext::has_history(const std::string& resource) const {
+  return graph_->copy_of(resource + kPrevious, frame_).written_frame >= 0;
+}
+
+void FrameGraph::add_resource(ResourceDesc desc) {
+  ILLUM_CHECK(!has_resource(desc.name), "duplicate resource '{}'", desc.name);
+  ILLUM_CHECK(!ends_with(desc.name, kPrevious), "resource name '{}' ends in {}", desc.name,
+              kPrevious);
+  ILLUM_CHECK(desc.kind == ResourceDesc::Kind::kBuffer || desc.format != VK_FORMAT_UNDEFINED,
+              "image '{}' has no format", desc.name);
+  resources_.push_back(std::move(desc));
+  copies_.emplace_back(resources_.back().history ? 2 : 1);
   compiled_ = false;
 }
 
+void FrameGraph::add_pass(PassDesc pass) {
+  ILLUM_CHECK(!has_pass(pass.name), "duplicate pass '{}'", pass.name);
+  const Schedule& s = pass.schedule;
+  ILLUM_CHECK(s.period >= 1 && s.phase >= 0 && s.items >= 1 && s.per_frame >= 1,
+              "pass '{}': bad schedule", pass.name);
+  if (pass.timer.empty()) pass.timer = pass.name;
+  const size_t items = static_cast<size_t>(s.items);
+  passes_.push_back({std::move(pass), std::vector<bool>(items, true), 0});
+  compiled_ = false;
+}
+
+void FrameGraph::require(const std::string& resource, const std::string& hint) {
+  required_.emplace_back(resource, hint);
+}
+
 bool FrameGraph::has_pass(const std::string& name) const {
+  return std::any_of(passes_.begin(), passes_.end(),
+                     [&](const Node& n) { return n.desc.name == name; });
+}
+
+bool FrameGraph::has_resource(const std::string& name) const {
+  return std::any_of(resources_.begin(), resources_.end(),
+                     [&](const ResourceDesc& r) { return r.name == name; });
+}
+
+const ResourceDesc& FrameGraph::resource(const std::string& name) const {
+  const auto l = find(name);
+  ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
+  return resources_[l->resource];
+}
+
+const PassDesc& FrameGraph::pass(const std::string& name) const {
   for (const Node& n : passes_)
-    if (n.desc.name == name) return true;
-  return false;
+    if (n.desc.name == name) return n.desc;
+  throw InternalError(fmt::format("no pass '{}'", name));
+}
+
+std::optional<FrameGraph::Logical> FrameGraph::find(const std::string& name) const {
+  const bool previous = ends_with(name, kPrevious);
+  const std::string base =
+      previous ? name.substr(0, name.size() - std::string(kPrevious).size()) : name;
+  for (size_t i = 0; i < resources_.size(); ++i)
+    if (resources_[i].name == base) {
+      if (previous && !resources_[i].history) return std::nullopt;
+      return Logical{i, previous};
+    }
+  return std::nullopt;
+}
+
+int FrameGraph::copy_at(const std::string& name, uint64_t frame) const {
+  const auto l = find(name);
+  ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
+  if (!resources_[l->resource].history) return 0;
+  return static_cast<int>((frame + (l->previous ? 1 : 0)) % 2);
+}
+
+FrameGraph::Copy& FrameGraph::copy_of(const std::string& name, uint64_t frame) {
+  const auto l = find(name);
+  ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
+  return copies_[l->resource][static_cast<size_t>(copy_at(name, frame))];
+}
+
+int FrameGraph::copies(const std::string& resource) const {
+  const auto l = find(resource);
+  ILLUM_CHECK(l.has_value() && !l->previous, "no resource '{}'", resource);
+  return static_cast<int>(copies_[l->resource].size());
+}
+
+void FrameGraph::bind_image(const std::string& resource, int copy, gpu::GpuImage* image) {
+  const auto l = find(resource);
+  ILLUM_CHECK(l.has_value() && !l->previous, "no resource '{}'", resource);
+  copies_[l->resource].at(static_cast<size_t>(copy)).image = image;
+}
+
+void FrameGraph::bind_buffer(const std::string& resource, int copy, gpu::Buffer* buffer) {
+  const auto l = find(resource);
+  ILLUM_CHECK(l.has_value() && !l->previous, "no resource '{}'", resource);
+  copies_[l->resource].at(static_cast<size_t>(copy)).buffer = buffer;
 }
 
 void FrameGraph::compile() {
-  // Kahn's algorithm over "writer before reader" edges; a resource written by several
-  // passes (read-modify-write, e.g. lighting accumulation) orders them by declaration.
-  const size_t n = passes_.size();
-  std::map<std::string, std::vector<size_t>> writers;
-  for (size_t i = 0; i < n; ++i)
-    for (const std::string& r : passes_[i].desc.outputs) writers[r].push_back(i);
-  std::vector<std::set<size_t>> deps(n);
-  for (size_t i = 0; i < n; ++i) {
-    for (const std::string& r : passes_[i].desc.inputs) {
-      auto it = writers.find(r);
-      if (it == writers.end()) {
-        ILLUM_CHECK(imported_.count(r), "pass '{}' reads '{}', which nothing produces",
-                    passes_[i].desc.name, r);
-        continue;
-      }
-      const auto& outs = passes_[i].desc.outputs;
-      const bool rmw = std::find(outs.begin(), outs.end(), r) != outs.end();
-      for (size_t w : it->second)  // a read-modify-write pass follows only earlier writers
-        if (w != i && (!rmw || w < i)) deps[i].insert(w);
+  sorted_.resize(passes_.size());
+  std::iota(sorted_.begin(), sorted_.end(), size_t{0});
+  std::stable_sort(sorted_.begin(), sorted_.end(), [&](size_t a, size_t b) {
+    return passes_[a].desc.phase < passes_[b].desc.phase;
+  });
+  for (ResourceDesc& r : resources_) r.usage = r.extra_usage;
+  std::vector<bool> written(resources_.size(), false);
+  for (size_t i : sorted_) {
+    const PassDesc& p = passes_[i].desc;
+    // In the pass's own order: a read needs a write before it (an earlier pass, or an
+    // earlier access of this pass, as a blur reading what the bright pass wrote).
+    for (const Access& a : p.accesses) {
+      const auto l = find(a.resource);
+      ILLUM_CHECK(l.has_value(), "pass '{}' uses '{}', which is not declared", p.name, a.resource);
+      ResourceDesc& r = resources_[l->resource];
+      const bool image = r.kind == ResourceDesc::Kind::kImage;
+      use_state(a.uses, a.shaders, image, image && is_depth_format(r.format));  // checks
+      r.usage |= usage_of(a.uses, image);
+      ILLUM_CHECK(!(l->previous && writes(a.uses)), "pass '{}' writes '{}'", p.name, a.resource);
+      if ((a.uses & kReadUses) && !l->previous && !r.external && !written[l->resource])
+        throw InternalError(fmt::format("pass '{}' reads '{}', which no pass before it writes",
+                                        p.name, a.resource));
+      if (writes(a.uses)) written[l->resource] = true;
     }
-    for (const std::string& r : passes_[i].desc.outputs)
-      for (size_t w : writers[r])
-        if (w < i) deps[i].insert(w);  // keep writes to one resource in declaration order
   }
-  sorted_.clear();
-  std::vector<bool> done(n, false);
-  while (sorted_.size() < n) {
-    bool progress = false;
-    for (size_t i = 0; i < n; ++i) {
-      if (done[i]) continue;
-      bool ready = true;
-      for (size_t d : deps[i]) ready = ready && done[d];
-      if (!ready) continue;
-      done[i] = true;
-      sorted_.push_back(i);
-      progress = true;
-      break;  // restart so the order stays as close to declaration order as possible
-    }
-    ILLUM_CHECK(progress, "frame graph has a cycle");
+  for (const auto& [resource, hint] : required_) {
+    const auto l = find(resource);
+    if (!l || !written[l->resource])
+      throw Error(fmt::format("nothing in this frame writes '{}': {}", resource, hint));
   }
   order_.clear();
   for (size_t i : sorted_) order_.push_back(passes_[i].desc.name);
   compiled_ = true;
 }
 
-void FrameGraph::invalidate(const std::string& pass) {
+void FrameGraph::inherit(const FrameGraph& previous,
+                         const std::function<bool(const std::string&)>& kept) {
   for (Node& n : passes_)
-    if (n.desc.name == pass) n.dirty = true;
+    for (const Node& old : previous.passes_)
+      if (old.desc.name == n.desc.name && old.desc.technique == n.desc.technique &&
+          kept(n.desc.technique) && old.dirty.size() == n.dirty.size()) {
+        n.dirty = old.dirty;
+        n.cursor = old.cursor;
+      }
+  for (size_t i = 0; i < resources_.size(); ++i)
+    for (size_t j = 0; j < previous.resources_.size(); ++j)
+      if (previous.resources_[j].name == resources_[i].name &&
+          previous.resources_[j].same_shape(resources_[i]))
+        for (size_t c = 0; c < copies_[i].size(); ++c) {
+          copies_[i][c].state = previous.copies_[j][c].state;
+          copies_[i][c].written_frame = previous.copies_[j][c].written_frame;
+        }
+}
+
+void FrameGraph::notify(Changes changes, const std::string& technique) {
+  for (Node& n : passes_) {
+    Changes hit = n.desc.schedule.invalidated_by & changes;
+    if (n.desc.technique != technique) hit &= ~Changes{kParametersChanged};
+    if (hit) std::fill(n.dirty.begin(), n.dirty.end(), true);
+  }
+}
+
+void FrameGraph::invalidate_technique(const std::string& technique) {
+  for (Node& n : passes_)
+    if (n.desc.technique == technique) std::fill(n.dirty.begin(), n.dirty.end(), true);
 }
 
 void FrameGraph::invalidate_all() {
-  for (Node& n : passes_) n.dirty = true;
+  for (Node& n : passes_) std::fill(n.dirty.begin(), n.dirty.end(), true);
+}
+
+void FrameGraph::invalidate_writers(const std::string& resource) {
+  for (Node& n : passes_)
+    for (const Access& a : n.desc.accesses)
+      if (a.resource == resource && writes(a.uses)) std::fill(n.dirty.begin(), n.dirty.end(), true);
+}
+
+std::vector<int> FrameGraph::due_items(Node& node, uint64_t frame) {
+  const Schedule& s = node.desc.schedule;
+  const int n = s.items;
+  std::vector<int> due;
+  const bool all_dirty =
+      std::all_of(node.dirty.begin(), node.dirty.end(), [](bool d) { return d; });
+  bool all = all_dirty;
+  switch (s.kind) {
+    case Schedule::Kind::kEveryFrame:
+      all = true;
+      break;
+    case Schedule::Kind::kEveryN:
+      all = all || (frame + static_cast<uint64_t>(s.phase)) % static_cast<uint64_t>(s.period) == 0;
+      break;
+    case Schedule::Kind::kRoundRobin:
+      if (!all) {
+        std::vector<bool> pick = node.dirty;
+        for (int k = 0; k < std::min(s.per_frame, n); ++k)
+          pick[static_cast<size_t>((node.cursor + k) % n)] = true;
+        node.cursor = (node.cursor + s.per_frame) % n;
+        for (int i = 0; i < n; ++i)
+          if (pick[static_cast<size_t>(i)]) due.push_back(i);
+      }
+      break;
+    case Schedule::Kind::kOnChange:
+      if (!all)
+        for (int i = 0; i < n; ++i)
+          if (node.dirty[static_cast<size_t>(i)]) due.push_back(i);
+      break;
+  }
+  if (all) {
+    due.resize(static_cast<size_t>(n));
+    std::iota(due.begin(), due.end(), 0);
+  }
+  for (int i : due) node.dirty[static_cast<size_t>(i)] = false;
+  return due;
+}
+
+void FrameGraph::apply(const std::string& name, uint64_t frame, VkCommandBuffer cmd, Uses uses,
+                       VkPipelineStageFlags2 shaders) {
+  const auto l = find(name);
+  ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
+  const ResourceDesc& r = resources_[l->resource];
+  const bool image = r.kind == ResourceDesc::Kind::kImage;
+  const int copy_index = copy_at(name, frame);
+  Copy& copy = copies_[l->resource][static_cast<size_t>(copy_index)];
+  if (copy.image && copy.image->layout() != copy.state.layout) {
+    // Someone else (an upload, a readback) moved the image: start from its own record.
+    copy.state = {copy.image->layout(), copy.image->stage(), copy.image->access()};
+  }
+  const UseState next = use_state(uses, shaders, image, image && is_depth_format(r.format));
+  std::optional<Barrier> b = barrier_for(&copy.state, next, image);
+  if (writes(uses)) copy.written_frame = static_cast<int64_t>(frame);
+  if (!b) return;
+  b->resource = r.history ? fmt::format("{}[{}]", r.name, copy_index) : r.name;
+  if (cmd != VK_NULL_HANDLE) {
+    if (copy.image) {
+      const gpu::ImageDesc& d = copy.image->desc();
+      gpu::image_barrier(cmd, copy.image->handle(), {copy.image->aspect(), 0, d.mips, 0, d.layers},
+                         b->old_layout, b->new_layout, b->src_stages, b->src_access, b->dst_stages,
+                         b->dst_access);
+      copy.image->assume_state(b->new_layout, b->dst_stages, b->dst_access);
+    } else {
+      ILLUM_CHECK(!image || r.external, "image '{}' has no GPU image bound", r.name);
+      if (!image)
+        gpu::memory_barrier(cmd, b->src_stages, b->src_access, b->dst_stages, b->dst_access);
+    }
+  }
+  barriers_.push_back(std::move(*b));
+}
+
+uint32_t FrameGraph::timer_scopes() const {
+  uint32_t n = 0;
+  for (const Node& p : passes_)
+    if (!p.desc.cpu) n += 1 + static_cast<uint32_t>(std::max(p.desc.nested_scopes, 0));
+  return n;
 }
 
 std::vector<std::string> FrameGraph::execute(VkCommandBuffer cmd, uint64_t frame,
                                              gpu::GpuTimer* timer) {
   if (!compiled_) compile();
+  current_frame_ = frame;
+  barriers_.clear();
+  cpu_times_.clear();
   std::vector<std::string> ran;
+  gpu::GpuTimer* gpu_timer = cmd != VK_NULL_HANDLE ? timer : nullptr;
+  std::string open_label;
+  uint32_t open_scope = 0;
+  auto close = [&] {
+    if (!open_label.empty() && gpu_timer) gpu_timer->end(cmd, open_scope);
+    open_label.clear();
+  };
   for (size_t i : sorted_) {
     Node& node = passes_[i];
-    bool due = node.dirty;
-    switch (node.desc.schedule) {
-      case UpdateSchedule::kEveryFrame:
-        due = true;
-        break;
-      case UpdateSchedule::kEveryN:
-        due = due || frame % static_cast<uint64_t>(node.desc.period) == 0;
-        break;
-      case UpdateSchedule::kOnChange:
-        break;
+    std::vector<int> items = due_items(node, frame);
+    if (items.empty()) continue;
+    PassContext ctx;
+    ctx.graph_ = this;
+    ctx.pass_ = &node.desc;
+    ctx.cmd_ = cmd;
+    ctx.frame_ = frame;
+    ctx.timer_ = gpu_timer;
+    ctx.items_ = std::move(items);
+    if (node.desc.cpu) {
+      close();
+      const auto t0 = std::chrono::steady_clock::now();
+      if (node.desc.record) node.desc.record(ctx);
+      const auto t1 = std::chrono::steady_clock::now();
+      cpu_times_.push_back({"cpu:" + node.desc.timer,
+                            std::chrono::duration<double, std::milli>(t1 - t0).count(), 0});
+      ran.push_back(node.desc.name);
+      continue;
     }
-    if (!due) continue;
-    const bool timed = timer && !node.desc.self_timed;
-    const uint32_t scope = timed ? timer->begin(cmd, node.desc.name) : 0;
-    if (node.desc.record) node.desc.record(cmd);
-    if (timed) timer->end(cmd, scope);
-    node.dirty = false;
+    if (open_label != node.desc.timer) {
+      close();
+      open_label = node.desc.timer;
+      if (gpu_timer) open_scope = gpu_timer->begin(cmd, open_label);
+    }
+    // The first declared access of each resource; the pass applies later ones with use().
+    std::vector<std::string> done;
+    for (const Access& a : node.desc.accesses) {
+      if (std::find(done.begin(), done.end(), a.resource) != done.end()) continue;
+      done.push_back(a.resource);
+      apply(a.resource, frame, cmd, a.uses, a.shaders);
+    }
+    if (node.desc.record) node.desc.record(ctx);
     ran.push_back(node.desc.name);
   }
+  close();
   return ran;
 }
 

@@ -1,4 +1,5 @@
-// CPU mirrors of the structures in shaders/common.glsl (vec4-aligned, std140/std430 alike).
+// CPU mirrors of the structures in shaders/common.glsl (set 0), shadow_set.glsl (set 3) and
+// baked.glsl (set 4): vec4-aligned, std140/std430 alike.
 #pragma once
 
 #include <cstdint>
@@ -6,8 +7,6 @@
 #include <glm/glm.hpp>
 
 namespace illum::realtime {
-
-enum class ShadowMode : int { kNone = 0, kMap = 1, kVsm = 2, kVolume = 3 };
 
 struct GpuMaterial {
   glm::vec4 albedo;     // rgb, opacity
@@ -21,8 +20,6 @@ struct GpuLight {
   glm::vec4 position_range;
   glm::vec4 direction_cos;
   glm::vec4 color_type;
-  glm::ivec4 shadow;        // x: cube slot, y: first view, z: view count
-  glm::vec4 shadow_params;  // x: far distance
 };
 
 struct FrameUniforms {
@@ -32,11 +29,26 @@ struct FrameUniforms {
   glm::mat4 inv_view_proj;
   glm::vec4 camera_pos;
   glm::vec4 ambient;
-  glm::ivec4 counts;        // lights, half-Lambert, shadow mode, PCF taps
-  glm::vec4 shadow_config;  // bias, PCF radius (texels), VSM τ, min variance
-  glm::vec4 cascade_splits;
-  glm::ivec4 options;  // single light (−1 all), has light-map, output mode
+  glm::ivec4 counts;  // lights, half-Lambert, single light (−1 all)
   glm::vec4 extent;
+};
+
+// Set 3, the shadow method's: shadow_set.glsl.
+enum class ShadowLookup : int { kNone = 0, kMap = 1, kVsm = 2 };
+struct ShadowUniforms {
+  glm::ivec4 config;  // mode (ShadowLookup), PCF taps
+  glm::vec4 params;   // bias, PCF radius (texels), VSM τ, min variance
+  glm::vec4 cascade_splits;
+};
+struct GpuShadowLight {
+  glm::ivec4 slot;   // map slot (−1 none), first view, views, 1 = 2-D spot map
+  glm::vec4 params;  // far distance (cascades: 4 half-widths), spot tan(half fov)
+};
+
+// Set 4, baked lighting: baked.glsl.
+struct BakedUniforms {
+  glm::ivec4 info;  // light-map kind, PRT on, entries of draw_cubes
+  glm::vec4 intensity;
   glm::vec4 prt_light[4];
 };
 

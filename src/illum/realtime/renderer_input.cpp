@@ -21,13 +21,6 @@ std::string text(const vec3& v) {
   return fmt::format("({}, {}, {})", v.x, v.y, v.z);
 }
 
-template <typename T>
-void in_range(const char* name, T value, T lo, T hi) {
-  // Written so that NaN fails too.
-  if (!(value >= lo && value <= hi))
-    throw Error(fmt::format("renderer option '{}' = {} is outside [{}, {}]", name, value, lo, hi));
-}
-
 std::string light_name(const Light& light, size_t index) {
   return light.name.empty() ? fmt::format("light {}", index)
                             : fmt::format("light {} ('{}')", index, light.name);
@@ -35,31 +28,11 @@ std::string light_name(const Light& light, size_t index) {
 
 }  // namespace
 
-void check_renderer_options(const RendererOptions& o) {
-  in_range("width", o.width, 1, 16384);
-  in_range("height", o.height, 1, 16384);
-  in_range("shadow_resolution", o.shadow_resolution, 16, 8192);
-  in_range("shadow_update_period", o.shadow_update_period, 0, 1000000);
-  in_range("pcf_taps", o.pcf_taps, 1, 64);
-  in_range("pcf_radius", o.pcf_radius, 0.0f, 64.0f);
-  in_range("shadow_bias", o.shadow_bias, 0.0f, 1.0f);
-  in_range("vsm_tau", o.vsm_tau, 0.0f, 0.99f);
-  in_range("exposure", o.exposure, 0.0f, 1e6f);
-  in_range("key", o.key, 1e-4f, 10.0f);
-  in_range("bloom_strength", o.bloom_strength, 0.0f, 100.0f);
-  in_range("bloom_threshold", o.bloom_threshold, 0.0f, 1e6f);
-  if (!finite_non_negative(o.ambient))
+void check_single_light(int single_light, size_t light_count) {
+  if (single_light >= 0 && static_cast<size_t>(single_light) >= light_count)
     throw Error(
-        fmt::format("renderer option 'ambient' = {} must be finite and ≥ 0", text(o.ambient)));
-  if (o.single_light < -1)
-    throw Error(fmt::format("renderer option 'single_light' = {} must be ≥ −1 (−1: all lights)",
-                            o.single_light));
-}
-
-void check_single_light(const RendererOptions& o, size_t light_count) {
-  if (o.single_light >= 0 && static_cast<size_t>(o.single_light) >= light_count)
-    throw Error(fmt::format("renderer option 'single_light' = {} names no light (the scene has {})",
-                            o.single_light, light_count));
+        fmt::format("parameter 'lighting.single_light' = {} names no light (the scene has {})",
+                    single_light, light_count));
 }
 
 void check_realtime_scene(const Scene& scene) {
@@ -126,12 +99,12 @@ void check_realtime_lights(const std::vector<Light>& lights) {
   }
 }
 
-void check_realtime_input(const Scene& scene, const RendererOptions& options) {
+void check_realtime_input(const Scene& scene, int single_light) {
   try {
     check_realtime_scene(scene);
     const std::vector<Light> lights = realtime_lights(scene);
     check_realtime_lights(lights);
-    check_single_light(options, lights.size());
+    check_single_light(single_light, lights.size());
   } catch (const Error& e) {
     if (scene.source_path.empty()) throw;
     throw Error(fmt::format("{}: {}", scene.source_path, e.what()));

@@ -6,6 +6,7 @@
 
 #include "illum/core/log.h"
 #include "illum/gpu/vk_check.h"
+#include "illum/realtime/realtime_lights.h"
 
 namespace illum::realtime {
 
@@ -209,22 +210,20 @@ double StencilShadows::build_on_cpu(const std::vector<Light>& lights, bool back_
   return ms;
 }
 
+void StencilShadows::record_clear(VkCommandBuffer cmd, size_t light_count) {
+  ILLUM_CHECK(source_ == SilhouetteSource::kGpu && light_count == outputs_.size(),
+              "GPU silhouettes recorded without their buffers");
+  if (light_count == 0) return;
+  const std::vector<VkDrawIndirectCommand> empty(light_count, {0, 1, 0, 0});
+  vkCmdUpdateBuffer(cmd, draw_args_.handle(), 0, empty.size() * sizeof(VkDrawIndirectCommand),
+                    empty.data());
+}
+
 void StencilShadows::record_extraction(VkCommandBuffer cmd, const std::vector<Light>& lights,
                                        bool back_faces) {
   ILLUM_CHECK(source_ == SilhouetteSource::kGpu && lights.size() == outputs_.size(),
               "GPU silhouettes recorded without their buffers");
   if (lights.empty()) return;
-  // The last frame's draws read what is rewritten here (an execution dependency suffices).
-  gpu::memory_barrier(
-      cmd, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT,
-      VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-      VK_ACCESS_2_NONE);
-  const std::vector<VkDrawIndirectCommand> empty(lights.size(), {0, 1, 0, 0});
-  vkCmdUpdateBuffer(cmd, draw_args_.handle(), 0, empty.size() * sizeof(VkDrawIndirectCommand),
-                    empty.data());
-  gpu::memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, extraction_pipeline_.handle());
   const uint32_t triangles = static_cast<uint32_t>(builder_.triangle_count());
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -242,10 +241,6 @@ void StencilShadows::record_extraction(VkCommandBuffer cmd, const std::vector<Li
                        &push);
     vkCmdDispatch(cmd, (triangles + kExtractionGroup - 1) / kExtractionGroup, 1, 1);
   }
-  gpu::memory_barrier(
-      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-      VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT,
-      VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
 }
 
 void StencilShadows::record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_set,

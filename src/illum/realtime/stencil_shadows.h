@@ -18,10 +18,13 @@
 #include "illum/gpu/descriptors.h"
 #include "illum/gpu/pipeline.h"
 #include "illum/realtime/gpu_scene.h"
-#include "illum/realtime/renderer.h"
 #include "illum/realtime/shadow_volume_builder.h"
 
 namespace illum::realtime {
+
+// Where stencil shadow volumes are built: a compute pass drawn indirectly (GPU), or
+// ShadowVolumeBuilder on the CPU (the simple reference, uploaded each rebuild).
+enum class SilhouetteSource { kCpu, kGpu };
 
 // One face's stencil state as every stencil pass here uses it: keep the value on a
 // stencil-test failure, compare all 8 bits against reference 0.
@@ -64,8 +67,11 @@ class StencilShadows {
   // CPU source: rebuilds every light's volumes now (waits for the GPU first when the
   // vertex buffer must grow). Returns the CPU milliseconds spent.
   double build_on_cpu(const std::vector<Light>& lights, bool back_faces);
-  // GPU source: records the extraction of every light's volumes (outside a rendering
-  // scope), with the barriers before it and before the draws that read it.
+  // GPU source, outside a rendering scope: zeroes every light's draw count (a transfer
+  // write of the indirect arguments), then — after a barrier from transfer to compute that
+  // the caller records — extracts every light's volumes (compute: storage writes of the
+  // vertices, atomic adds on the counts). The draws that read them need a barrier too.
+  void record_clear(VkCommandBuffer cmd, size_t light_count);
   void record_extraction(VkCommandBuffer cmd, const std::vector<Light>& lights, bool back_faces);
   // Inside a rendering scope with a stencil attachment: the z-fail count of light `light`'s
   // volumes against the bound depth (its own pipeline; binds `frame_set` as set 0).

@@ -21,6 +21,7 @@
 #include "illum/gpu/buffer.h"
 #include "illum/gpu/vk_check.h"
 #include "illum/realtime/renderer_input.h"
+#include "illum/realtime/viewer_panel.h"
 
 namespace illum::realtime {
 
@@ -285,163 +286,6 @@ void create_swapchain(gpu::Context& ctx, VkSurfaceKHR surface, GLFWwindow* windo
 // Swapchain images: one colour mip, one layer.
 constexpr VkImageSubresourceRange kSwapchainRange{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
 
-const char* const kTechniques[] = {"forward", "deferred"};
-const char* const kShadowModes[] = {"none", "map", "vsm", "volume"};
-const char* const kDeferredLighting[] = {"compute", "light volumes"};
-const char* const kSilhouettes[] = {"cpu", "gpu"};
-const char* const kToneMappers[] = {"clamp", "reinhard", "aces", "agx"};
-const char* const kLightTypes[] = {"point", "spot", "directional", "area", "environment"};
-
-// State the panel edits besides RendererOptions.
-struct PanelState {
-  std::vector<Light> base_lights;  // realtime_lights(scene): what the edits start from
-  std::vector<Light> lights;       // as edited
-  float light_scale = 1.0f;        // multiplies every light's intensity / irradiance
-  bool lights_changed = false;
-  float speed = 1.0f;         // multiplies the camera speed (0.25 scene diagonals a second)
-  bool print_camera = false;  // the panel's "print camera" button was pressed
-  std::string error;          // the last rejected option change (e.g. volume without depth clamp)
-  ImVec2 panel_pos{0, 0}, panel_size{0, 0};
-};
-
-std::vector<Light> scaled_lights(const PanelState& p) {
-  std::vector<Light> out = p.lights;
-  for (Light& l : out) {
-    l.intensity *= p.light_scale;
-    l.irradiance *= p.light_scale;
-  }
-  return out;
-}
-
-bool combo(const char* label, int* value, const char* const* items, int count) {
-  return ImGui::Combo(label, value, items, count);
-}
-
-// The panel: one widget per RendererOptions field (every field changes the image live;
-// the structural ones rebuild the renderer), the lights, the camera and the GPU times.
-void draw_panel(const gpu::Context& ctx, RendererOptions* o, PanelState* p, Camera* camera,
-                const Camera& home, const std::vector<gpu::PassTime>& times, double frame_ms,
-                float panel_width, float panel_height) {
-  ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(panel_width, panel_height), ImGuiCond_FirstUseEver);
-  ImGui::Begin("illum view");
-  // Half the width for the widget, half for its label: narrow panels stay readable.
-  ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.45f);
-  ImGui::Text("%s", ctx.device_name().c_str());
-  ImGui::Text("%dx%d  %.1f ms/frame", o->width, o->height, frame_ms);
-  int technique = static_cast<int>(o->technique);
-  if (combo("technique", &technique, kTechniques, 2))
-    o->technique = static_cast<Technique>(technique);
-  int shadows = static_cast<int>(o->shadows);
-  if (combo("shadows", &shadows, kShadowModes, 4)) o->shadows = static_cast<ShadowMode>(shadows);
-  if (o->technique == Technique::kDeferred) {
-    int lighting = static_cast<int>(o->deferred_lighting);
-    if (combo("lighting", &lighting, kDeferredLighting, 2))
-      o->deferred_lighting = static_cast<DeferredLighting>(lighting);
-  }
-  if (!p->error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", p->error.c_str());
-
-  if (ImGui::CollapsingHeader("GPU time (ms)", ImGuiTreeNodeFlags_DefaultOpen)) {
-    double total = 0.0;
-    if (ImGui::BeginTable("passes", 2, ImGuiTableFlags_SizingStretchProp)) {
-      auto row = [](const char* name, double ms) {
-        ImGui::TableNextRow();
-        ImGui::TableNextColumn();
-        ImGui::TextUnformatted(name);
-        ImGui::TableNextColumn();
-        ImGui::Text("%.3f", ms);
-      };
-      for (const gpu::PassTime& t : times) {
-        row(t.name.c_str(), t.ms);
-        if (t.name.rfind("cpu:", 0) != 0) total += t.ms;
-      }
-      row("sum (GPU)", total);
-      ImGui::EndTable();
-    }
-    if (!ctx.timestamps()) ImGui::TextDisabled("(device has no timestamps)");
-  }
-  if (ImGui::CollapsingHeader("Shadows", ImGuiTreeNodeFlags_DefaultOpen)) {
-    int res_log = static_cast<int>(std::lround(std::log2(std::max(o->shadow_resolution, 1))));
-    if (ImGui::SliderInt("resolution (2^n)", &res_log, 6, 12)) o->shadow_resolution = 1 << res_log;
-    ImGui::SliderInt("update period", &o->shadow_update_period, 0, 30);
-    ImGui::SliderInt("PCF taps", &o->pcf_taps, 1, 64);
-    ImGui::SliderFloat("PCF radius", &o->pcf_radius, 0.0f, 8.0f, "%.2f texels");
-    ImGui::SliderFloat("bias", &o->shadow_bias, 0.0f, 0.02f, "%.4f", ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderFloat("VSM tau", &o->vsm_tau, 0.0f, 0.99f);
-    ImGui::Checkbox("volumes from back faces", &o->volume_back_faces);
-    int silhouettes = static_cast<int>(o->silhouettes);
-    if (combo("volume silhouettes", &silhouettes, kSilhouettes, 2))
-      o->silhouettes = static_cast<SilhouetteSource>(silhouettes);
-    ImGui::TextDisabled("cascades: 4 (first directional light)");
-  }
-  if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
-    p->lights_changed |= ImGui::SliderFloat("intensity x", &p->light_scale, 0.0f, 16.0f, "%.3f",
-                                            ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderInt("single light", &o->single_light, -1, static_cast<int>(p->lights.size()) - 1,
-                     o->single_light < 0 ? "all" : "%d");
-    for (size_t i = 0; i < p->lights.size(); ++i) {
-      Light& l = p->lights[i];
-      ImGui::PushID(static_cast<int>(i));
-      const int type = std::clamp(static_cast<int>(l.type), 0, 4);
-      if (ImGui::TreeNode("light", "light %zu (%s)", i, kLightTypes[type])) {
-        Color& c = l.type == LightType::kDirectional ? l.irradiance : l.intensity;
-        p->lights_changed |= ImGui::ColorEdit3("intensity", &c.r,
-                                               ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
-        if (l.type != LightType::kDirectional) {
-          p->lights_changed |= ImGui::DragFloat3("position", &l.position.x, 0.01f);
-          p->lights_changed |= ImGui::DragFloat("range (0 = none)", &l.range, 0.01f, 0.0f, 1e6f);
-        }
-        if (ImGui::Button("reset")) {
-          l = p->base_lights[i];
-          p->lights_changed = true;
-        }
-        ImGui::TreePop();
-      }
-      ImGui::PopID();
-    }
-  }
-  if (ImGui::CollapsingHeader("Shading", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Checkbox("half-Lambert", &o->half_lambert);
-    ImGui::ColorEdit3("ambient", &o->ambient.r,
-                      ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float);
-  }
-  if (ImGui::CollapsingHeader("Tone mapping", ImGuiTreeNodeFlags_DefaultOpen)) {
-    int op = static_cast<int>(o->tone_mapper);
-    if (combo("tone mapper", &op, kToneMappers, 4)) o->tone_mapper = static_cast<ToneMapOp>(op);
-    ImGui::Checkbox("auto exposure", &o->auto_exposure);
-    ImGui::SliderFloat("exposure", &o->exposure, 0.01f, 100.0f, "%.3f",
-                       ImGuiSliderFlags_Logarithmic);
-    ImGui::SliderFloat("key", &o->key, 0.01f, 1.0f, "%.3f");
-  }
-  if (ImGui::CollapsingHeader("Bloom", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::SliderFloat("strength (0 = off)", &o->bloom_strength, 0.0f, 2.0f);
-    ImGui::SliderFloat("threshold", &o->bloom_threshold, 0.0f, 10.0f);
-  }
-  if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::SliderFloat("speed", &p->speed, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    float fov = glm::degrees(camera->fov_y);
-    if (ImGui::SliderFloat("fov y", &fov, 10.0f, 120.0f, "%.1f deg"))
-      camera->fov_y = glm::radians(fov);
-    ImGui::Text("at %.2f %.2f %.2f", camera->position.x, camera->position.y, camera->position.z);
-    if (ImGui::Button("reset camera (R)")) *camera = home;
-    ImGui::SameLine();
-    if (ImGui::Button("print camera (C)")) p->print_camera = true;
-    ImGui::TextDisabled("WASD move, Q/E down/up, Shift fast,\nright-drag look, Esc quit");
-  }
-  ImGui::PopItemWidth();
-  p->panel_pos = ImGui::GetWindowPos();
-  p->panel_size = ImGui::GetWindowSize();
-  ImGui::End();
-}
-
-bool same_structure(const RendererOptions& a, const RendererOptions& b) {
-  return a.width == b.width && a.height == b.height && a.technique == b.technique &&
-         a.shadows == b.shadows && a.shadow_resolution == b.shadow_resolution &&
-         a.shadow_update_period == b.shadow_update_period &&
-         (a.bloom_strength > 0.0f) == (b.bloom_strength > 0.0f) &&
-         a.deferred_lighting == b.deferred_lighting && a.silhouettes == b.silhouettes;
-}
-
 // The ImGui context and its two backends, shut down in reverse order.
 struct ImGuiSession {
   bool glfw = false, vulkan = false;
@@ -467,12 +311,12 @@ std::string camera_json(const Camera& camera) {
                      glm::degrees(camera.fov_y));
 }
 
-bool run_viewer(const Scene& scene, const RendererOptions& initial, const ViewerOptions& viewer,
+bool run_viewer(const Scene& scene, const RenderSettings& initial, const ViewerOptions& viewer,
                 Camera* final_camera, std::string* reason) {
   // Bad input is refused before a window opens (GLFW would refuse a 0×0 window only as
   // "no window", and the caller would fall back to headless).
-  check_renderer_options(initial);
-  check_realtime_input(scene, initial);
+  initial.check();
+  check_realtime_input(scene, initial.get<int>("lighting.single_light"));
   check_camera(scene.camera ? *scene.camera : Camera::framing(scene.bounds()));
   ViewerInput input;  // outlives the window, whose callbacks point at it
   Glfw glfw;
@@ -609,9 +453,8 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
   // Screenshot: every frame's final image is copied here (cheap), written at exit.
   gpu::Buffer shot;
 
-  RendererOptions options = initial;
+  RenderSettings settings = initial;
   std::unique_ptr<Renderer> renderer;
-  RendererOptions built = options;  // what `renderer` was made with (structure)
   PanelState panel;
   panel.base_lights = realtime_lights(scene);
   panel.lights = panel.base_lights;
@@ -658,16 +501,16 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
       create_swapchain(ctx, surface, window, surface_format, overlay_pass, readback,
                        swapchain.get());
     }
-    options.width = static_cast<int>(swapchain->extent.width);
-    options.height = static_cast<int>(swapchain->extent.height);
+    settings.width = static_cast<int>(swapchain->extent.width);
+    settings.height = static_cast<int>(swapchain->extent.height);
 
     ImGui_ImplVulkan_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     static const std::vector<gpu::PassTime> kNoTimes;
-    draw_panel(ctx, &options, &panel, &camera, home, renderer ? renderer->pass_times() : kNoTimes,
-               frame_ms, std::min(340.0f, 0.5f * static_cast<float>(options.width)),
-               static_cast<float>(options.height));
+    draw_panel(ctx, &settings, &panel, &camera, home, renderer ? renderer->pass_times() : kNoTimes,
+               frame_ms, std::min(340.0f, 0.5f * static_cast<float>(settings.width)),
+               static_cast<float>(settings.height));
     input.popup_open = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopup);
     ImGui::Render();
 
@@ -695,21 +538,20 @@ bool run_viewer(const Scene& scene, const RendererOptions& initial, const Viewer
     if (panel.print_camera) print_camera(camera);
     panel.print_camera = false;
 
-    // Per-frame values go straight into the renderer; structural changes rebuild it.
-    if (!renderer || !same_structure(options, built) || !renderer->set_options(options)) {
-      ctx.wait_idle();
+    // The renderer applies per-frame values in place and rebuilds only the techniques whose
+    // structure changed (Renderer::configure); a change it refuses keeps the last settings.
+    if (!renderer) {
+      renderer = std::make_unique<Renderer>(ctx, scene, settings);
+      if (viewer.lightmap.kind != LightmapKind::kNone) renderer->set_lightmap(viewer.lightmap);
+      panel.lights_changed = true;  // a new renderer starts from the scene's lights
+    } else if (!(settings == renderer->settings())) {
       try {
-        auto next = std::make_unique<Renderer>(ctx, scene, options);
-        if (viewer.lightmap.kind != LightmapKind::kNone) next->set_lightmap(viewer.lightmap);
-        renderer.reset();
-        renderer = std::move(next);
-        built = options;
+        ctx.wait_idle();
+        renderer->configure(settings);
         panel.error.clear();
-        panel.lights_changed = true;  // a new renderer starts from the scene's lights
       } catch (const Error& e) {
-        if (!renderer) throw;
         panel.error = e.what();
-        options = built;  // keep the working renderer
+        settings = renderer->settings();  // keep the working frame
       }
     }
     if (panel.lights_changed) {

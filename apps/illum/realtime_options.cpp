@@ -1,0 +1,83 @@
+#include "realtime_options.h"
+
+#include "commands.h"
+#include "illum/realtime/technique_registry.h"
+#include "option_checks.h"
+
+namespace illum::cli {
+
+void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
+  using realtime::TechniqueKind;
+  const auto* tonemap = realtime::find_technique("tonemap");
+  cmd->add_option("-t,--technique", args->technique, "frame pipeline")
+      ->check(CLI::IsMember(realtime::technique_names(TechniqueKind::kFramePipeline)))
+      ->capture_default_str();
+  cmd->add_option("--shadows", args->shadows, "shadow method")
+      ->check(CLI::IsMember(realtime::technique_names(TechniqueKind::kShadowMethod)))
+      ->capture_default_str();
+  cmd->add_option("--enable", args->enable,
+                  "switch add-ons on (NAME[,NAME], repeatable; `illum frame --list` lists them)")
+      ->delimiter(',');
+  cmd->add_option("--disable", args->disable, "switch add-ons off (NAME[,NAME], repeatable)")
+      ->delimiter(',');
+  cmd->add_option("--tonemap", args->tonemap, "tone mapper")
+      ->check(CLI::IsMember(tonemap->param("operator")->choices))
+      ->capture_default_str();
+  cmd->add_option("--exposure", args->exposure, "exposure multiplier")
+      ->transform(number(0.0f, 1e6f))
+      ->capture_default_str();
+  cmd->add_flag("--fixed-exposure", args->fixed_exposure,
+                "no auto-exposure (same as --disable luminance)");
+  cmd->add_option("-p,--param", args->params,
+                  "technique parameter NAME.key=value (repeatable; `illum frame --list` lists "
+                  "them, with the short keys also accepted, e.g. pcf_taps=8, "
+                  "bloom_strength=0.5, ambient=[r,g,b] (default: the scene's settings.ambient))");
+}
+
+realtime::RenderSettings realtime_settings(const RealtimeArgs& args, const Scene& scene,
+                                           bool timing) {
+  nlohmann::json j = key_values_to_json(args.params);
+  refuse_params_of_options(j, {{"technique", "--technique"},
+                               {"shadows", "--shadows"},
+                               {"tone_mapper", "--tonemap"},
+                               {"tonemap.operator", "--tonemap"},
+                               {"width", "--width"},
+                               {"height", "--height"},
+                               {"exposure", "--exposure"},
+                               {"tonemap.exposure", "--exposure"}});
+  realtime::RenderSettings s;
+  s.pipeline = args.technique;
+  s.shadows = args.shadows;
+  for (const std::string& name : args.enable) s.enable(name);
+  for (const std::string& name : args.disable) {
+    if (std::find(args.enable.begin(), args.enable.end(), name) != args.enable.end())
+      throw Error(fmt::format("--enable {0} and --disable {0} contradict each other", name));
+    s.disable(name);
+  }
+  // Short keys may switch an add-on too (bloom_strength=0, auto_exposure=false): they must not
+  // undo an explicit --enable / --disable.
+  for (const auto& [key, value] : j.items()) s.set_param(key, value);
+  for (const std::string& name : args.enable)
+    if (!s.active(name))
+      throw Error(fmt::format("--enable {} contradicts a -p key that switches it off", name));
+  for (const std::string& name : args.disable)
+    if (s.active(name))
+      throw Error(fmt::format("--disable {} contradicts a -p key that switches it on", name));
+  if (args.fixed_exposure) {
+    if (std::find(args.enable.begin(), args.enable.end(), "luminance") != args.enable.end())
+      throw Error("--fixed-exposure contradicts --enable luminance");
+    s.disable("luminance");
+  }
+  s.set("tonemap.operator", args.tonemap);
+  s.set("tonemap.exposure", args.exposure);
+  if (!s.values().count("lighting.ambient")) s.set("lighting.ambient", scene.settings.ambient);
+  // Timing runs re-render the shadow maps (and rebuild the volumes) every frame so their
+  // cost is in every median; an interactive frame does so only when lights change.
+  if (timing)
+    for (const char* key : {"map.update_period", "vsm.update_period", "volume.update_period"})
+      if (!s.values().count(key)) s.set(key, 1);
+  s.check();
+  return s;
+}
+
+}  // namespace illum::cli

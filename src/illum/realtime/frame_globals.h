@@ -1,0 +1,82 @@
+// The frame's globals every technique shares: set 0 (frame uniforms, materials, lights:
+// shaders/common.glsl), set 1 (per-material textures), the layouts of the shading slots a
+// technique fills with its own set (2: the frame pipeline's, 3: the shadow method's,
+// shaders/shadow_set.glsl; 4: baked lighting, shaders/baked.glsl) with a neutral set for
+// each when no technique fills it, the samplers and the 1×1 dummy textures that keep
+// descriptors valid when a feature is off.
+#pragma once
+
+#include <vector>
+
+#include "illum/gpu/buffer.h"
+#include "illum/gpu/descriptors.h"
+#include "illum/gpu/gpu_image.h"
+#include "illum/gpu/pipeline.h"
+#include "illum/realtime/gpu_scene.h"
+#include "illum/realtime/render_settings.h"
+#include "illum/realtime/technique_context.h"
+
+namespace illum::realtime {
+
+// Descriptor set slots of the shading pipeline layout (must match the shaders).
+inline constexpr uint32_t kFrameSet = 0;
+inline constexpr uint32_t kMaterialSet = 1;
+inline constexpr uint32_t kPipelineSet = 2;
+inline constexpr uint32_t kShadowSet = 3;
+inline constexpr uint32_t kBakedSet = 4;
+inline constexpr uint32_t kShadingSets = 5;
+
+class FrameGlobals {
+ public:
+  FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t light_count);
+  FrameGlobals(const FrameGlobals&) = delete;
+  FrameGlobals& operator=(const FrameGlobals&) = delete;
+
+  const gpu::Sampler& linear() const { return linear_; }  // repeat, mipmapped (materials)
+  const gpu::Sampler& nearest() const { return nearest_; }
+  const gpu::Sampler& clamp_linear() const { return clamp_linear_; }
+  const gpu::GpuImage& dummy_cube() const { return dummy_cube_; }    // RG32F cube array (1, 1)
+  const gpu::GpuImage& dummy_array() const { return dummy_array_; }  // RG32F 2-D array (1, 1)
+  const gpu::GpuImage& dummy_2d() const { return dummy_2d_; }        // RG32F (0, 0)
+  const gpu::Buffer& dummy_buffer() const { return dummy_buffer_; }  // 256 zero bytes
+
+  // The layout of shading slot `slot` (kPipelineSet: an empty one, for pipelines without
+  // their own set).
+  const gpu::DescriptorSetLayout& layout(uint32_t slot) const;
+  // The set bound at `slot` when no active technique fills it (kShadowSet: no shadow
+  // lookups; kBakedSet: no baked lighting; kPipelineSet: empty).
+  VkDescriptorSet neutral_set(uint32_t slot) const;
+  VkDescriptorSet frame_set() const { return frame_set_; }
+  // Materials out of range (none in the scene) use the last (or a default) one.
+  int material_index(int material) const;
+  VkDescriptorSet material_set(int material) const;
+
+  // A pipeline layout of the five shading slots (slot 2: `pipeline_set`, or the empty
+  // layout) and the scene's push constants.
+  gpu::PipelineLayout shading_layout(VkDescriptorSetLayout pipeline_set = VK_NULL_HANDLE) const;
+  // The one with an empty slot 2 (shadow maps, forward shading, stencil volumes).
+  VkPipelineLayout default_layout() const { return default_layout_.handle(); }
+
+  void upload_lights(const std::vector<Light>& lights);
+  // The frame uniforms: the camera, and the lighting globals from `settings`.
+  void update(const FrameView& view, const RenderSettings& settings, size_t light_count,
+              uint32_t width, uint32_t height);
+
+ private:
+  gpu::Context& context_;
+  gpu::Sampler linear_, nearest_, clamp_linear_;
+  gpu::GpuImage dummy_cube_, dummy_array_, dummy_2d_, dummy_white_;
+  gpu::Buffer dummy_buffer_, frame_ubo_, lights_, neutral_shadow_ubo_, neutral_baked_ubo_;
+  gpu::DescriptorAllocator descriptors_;
+  std::vector<gpu::DescriptorSetLayout> layouts_;  // per slot
+  VkDescriptorSet frame_set_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSet> material_sets_;
+  std::vector<VkDescriptorSet> neutral_sets_;  // per slot (0, 1: none)
+  gpu::PipelineLayout default_layout_;
+};
+
+// Binds the five shading sets (slot 1: material 0; the scene draw rebinds it per draw).
+void bind_shading_sets(VkCommandBuffer cmd, VkPipelineBindPoint point, VkPipelineLayout layout,
+                       const FrameGlobals& globals, const std::array<VkDescriptorSet, 3>& sets);
+
+}  // namespace illum::realtime

@@ -1,0 +1,74 @@
+// The one "draw the scene from view V with variant P into targets T" service: shadow maps
+// (cube faces, spot maps, cascades), the forward and G-buffer passes (a depth pre-pass, then
+// shading), the forward pass of stencil-masked lights — and later reflective shadow maps
+// and cube-map captures. A variant is a gpu::Pipeline built on a shading layout
+// (FrameGlobals::shading_layout); the view is what goes into the push constants.
+#pragma once
+
+#include <array>
+#include <initializer_list>
+#include <vector>
+
+#include "illum/gpu/pipeline.h"
+#include "illum/realtime/frame_globals.h"
+#include "illum/realtime/gpu_scene.h"
+
+namespace illum::realtime {
+
+// The vertex layout of the scene's vertex buffer (position only for depth-like passes).
+gpu::VertexInput mesh_vertex_input(bool position_only);
+
+struct DrawTargets {
+  struct Color {
+    VkImageView view = VK_NULL_HANDLE;
+    bool clear = true;
+    VkClearColorValue value{};
+  };
+  std::vector<Color> colors;
+  VkImageView depth = VK_NULL_HANDLE;  // a view with every aspect of a depth(-stencil) image
+  bool clear_depth = true;
+  bool store_depth = true;
+  bool stencil = false;  // the depth image's stencil is an attachment too
+  VkExtent2D extent{};
+};
+
+// What the push constants say about the view: shadow passes name their shadow view and
+// light; colour passes (per_draw) push each draw's index instead, for per-draw data such as
+// the ambient cube (baked.glsl). `mode` goes to push.pad (forward.frag: 0 all lights,
+// 1 emission + ambient only, 2 the one light light_index, unshadowed).
+struct SceneView {
+  int view_index = 0;
+  int light_index = 0;
+  int mode = 0;
+  bool per_draw = true;
+};
+
+class SceneDrawer {
+ public:
+  SceneDrawer(const GpuScene& scene, const FrameGlobals& globals)
+      : scene_(scene), globals_(globals) {}
+
+  // A rendering scope over `targets` with the viewport and scissor set to their extent.
+  void begin(VkCommandBuffer cmd, const DrawTargets& targets) const;
+  void end(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
+  // Inside a scope: binds `pipeline` and the shading sets (slots 2..4 from `sets`), then
+  // draws every draw item with its material (set 1) and push constants.
+  void draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline, VkPipelineLayout layout,
+            const std::array<VkDescriptorSet, 3>& sets, const SceneView& view) const;
+  // begin(), draw() with each variant in turn (a depth pre-pass, then shading), end().
+  void render(VkCommandBuffer cmd, const DrawTargets& targets,
+              std::initializer_list<const gpu::Pipeline*> variants, VkPipelineLayout layout,
+              const std::array<VkDescriptorSet, 3>& sets, const SceneView& view) const;
+
+  // The scope of the per-light passes after the depth (and G-buffer) pass — light volumes,
+  // stencil shadow volumes: the HDR target loaded, the depth read-only (tested, and
+  // sampled by G-buffer lighting), the stencil cleared for this light.
+  void begin_light_scope(VkCommandBuffer cmd, VkImageView hdr, VkImageView depth,
+                         VkExtent2D extent) const;
+
+ private:
+  const GpuScene& scene_;
+  const FrameGlobals& globals_;
+};
+
+}  // namespace illum::realtime

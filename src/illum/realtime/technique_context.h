@@ -1,0 +1,83 @@
+// What a technique may use while it is built, declares its passes and records them: the
+// device, the uploaded scene and lights, the settings (its parameter values), the frame
+// globals (sets 0 and 1, samplers, dummies), the frame's resources once realized, the scene
+// draw service and this frame's view. The renderer owns all of them.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "illum/gpu/context.h"
+#include "illum/realtime/baked_data.h"
+#include "illum/realtime/render_settings.h"
+#include "illum/realtime/technique.h"
+#include "illum/scene/scene.h"
+
+namespace illum::realtime {
+
+class GpuScene;
+class FrameGlobals;
+class FrameResources;
+class SceneDrawer;
+
+// This frame's camera.
+struct FrameView {
+  Camera camera;
+  mat4 view{1.0f}, proj{1.0f}, view_proj{1.0f}, inv_view_proj{1.0f};
+  float near_plane = 0.0f, far_plane = 1.0f, aspect = 1.0f;
+  uint64_t index = 0;  // frames rendered before this one
+};
+
+class TechniqueContext {
+ public:
+  gpu::Context& gpu;
+  const GpuScene& scene;
+  FrameGlobals& globals;
+  FrameResources& resources;
+  const SceneDrawer& drawer;
+  VkFormat depth_format;
+
+  TechniqueContext(gpu::Context& g, const GpuScene& s, FrameGlobals& fg, FrameResources& r,
+                   const SceneDrawer& d, VkFormat depth)
+      : gpu(g), scene(s), globals(fg), resources(r), drawer(d), depth_format(depth) {}
+
+  const std::vector<Light>& lights() const { return *lights_; }
+  const RenderSettings& settings() const { return *settings_; }
+  const FrameView& view() const { return *view_; }
+  const BakedData& baked() const { return *baked_; }
+  uint32_t width() const { return static_cast<uint32_t>(settings_->width); }
+  uint32_t height() const { return static_cast<uint32_t>(settings_->height); }
+
+  // The active pipeline and shadow method (each technique is built after the shadow method
+  // and, but for it, after the pipeline).
+  FramePipeline& pipeline() const { return *pipeline_(); }
+  ShadowMethod& shadow_method() const { return *shadow_method_(); }
+  // The sets bound at slots 2, 3, 4 of the shading layout: `pipeline_set` (or the empty
+  // neutral set), then the active shadow method's and baked add-on's sets (or neutral ones).
+  std::array<VkDescriptorSet, 3> shading_sets(VkDescriptorSet pipeline_set = VK_NULL_HANDLE) const {
+    return shading_sets_(pipeline_set);
+  }
+  // The resources the shading passes sample through those sets, as accesses by `shaders`.
+  std::vector<Access> shading_reads(VkPipelineStageFlags2 shaders) const {
+    return shading_reads_(shaders);
+  }
+
+ private:
+  friend class Renderer;
+  const std::vector<Light>* lights_ = nullptr;
+  const RenderSettings* settings_ = nullptr;
+  const FrameView* view_ = nullptr;
+  const BakedData* baked_ = nullptr;
+  std::function<FramePipeline*()> pipeline_;
+  std::function<ShadowMethod*()> shadow_method_;
+  std::function<std::array<VkDescriptorSet, 3>(VkDescriptorSet)> shading_sets_;
+  std::function<std::vector<Access>(VkPipelineStageFlags2)> shading_reads_;
+};
+
+template <typename T>
+T Technique::param(const std::string& key) const {
+  return ctx_.settings().get<T>(decl_.name + "." + key);
+}
+
+}  // namespace illum::realtime

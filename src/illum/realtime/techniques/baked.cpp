@@ -1,0 +1,168 @@
+// Baked lighting in the ambient term (shaders/baked.glsl, slot 4): light-maps (plain, RNM,
+// SH-L1) at uv1, ambient-cube probes per draw, and SH-L1 PRT per vertex relit by the
+// lights' SH each frame. The data stays with the renderer (Renderer::set_lightmap, ...);
+// switching the add-on on uploads it into this technique's own set.
+#include "illum/realtime/frame_globals.h"
+#include "illum/realtime/realtime_lights.h"
+#include "illum/realtime/technique_context.h"
+#include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/techniques.h"
+
+namespace illum::realtime {
+
+void interpolate_ambient_cubes(const AmbientCubeGrid& grid, const Scene& scene,
+                               const std::vector<int>& draw_instances, BakedData* out) {
+  const glm::ivec3 n = grid.size;
+  if (n.x < 1 || n.y < 1 || n.z < 1 ||
+      grid.cubes.size() != static_cast<size_t>(n.x) * n.y * n.z * 6)
+    throw Error(fmt::format("ambient cubes: {} values for a {}×{}×{} grid (need 6 per probe)",
+                            grid.cubes.size(), n.x, n.y, n.z));
+  std::vector<vec4> data;
+  std::vector<int> draw_cube(draw_instances.size(), 0);
+  auto at = [&](int x, int y, int z, int f) {
+    return grid.cubes[((static_cast<size_t>(z) * n.y + y) * n.x + x) * 6 + f];
+  };
+  for (int inst : grid.instances) {
+    if (inst < 0 || static_cast<size_t>(inst) >= scene.instances.size())
+      throw Error(fmt::format("ambient cubes: instance {} does not exist", inst));
+    const Instance& in = scene.instances[static_cast<size_t>(inst)];
+    Bounds3 b;
+    for (const vec3& p : scene.meshes[static_cast<size_t>(in.mesh)].positions)
+      b.extend(vec3(in.transform * vec4(p, 1.0f)));
+    const vec3 g = glm::clamp((b.center() - grid.origin) / grid.spacing, vec3(0.0f), vec3(n - 1));
+    const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(g)), n - 1);
+    const glm::ivec3 i1 = glm::min(i0 + 1, n - 1);
+    const vec3 t = g - vec3(i0);
+    const int cube = static_cast<int>(data.size() / 6);
+    for (int f = 0; f < 6; ++f) {
+      Color c(0.0f);
+      for (int k = 0; k < 8; ++k) {
+        const int x = k & 1 ? i1.x : i0.x, y = k & 2 ? i1.y : i0.y, z = k & 4 ? i1.z : i0.z;
+        const float w = (k & 1 ? t.x : 1 - t.x) * (k & 2 ? t.y : 1 - t.y) * (k & 4 ? t.z : 1 - t.z);
+        c += w * at(x, y, z, f);
+      }
+      data.emplace_back(c, 0.0f);
+    }
+    for (size_t di = 0; di < draw_instances.size(); ++di)
+      if (draw_instances[di] == inst) draw_cube[di] = cube + 1;
+  }
+  out->cubes = std::move(data);
+  out->draw_cube = std::move(draw_cube);
+}
+
+namespace {
+
+class Baked final : public Technique {
+ public:
+  Baked(TechniqueContext& ctx, const TechniqueDecl& decl)
+      : Technique(ctx, decl), descriptors_(ctx.gpu) {
+    const BakedData& data = ctx.baked();
+    const FrameGlobals& g = ctx.globals;
+    const Lightmap& lm = data.lightmap;
+    VkImageView lightmap = g.dummy_array().view();
+    if (lm.kind != LightmapKind::kNone) {
+      const Image& first = lm.layers.at(0);
+      gpu::ImageDesc d;
+      d.width = static_cast<uint32_t>(first.width());
+      d.height = static_cast<uint32_t>(first.height());
+      d.layers = static_cast<uint32_t>(lm.layers.size());
+      d.array = true;
+      d.format = VK_FORMAT_R16G16B16A16_SFLOAT;  // signed: SH coefficients can be negative
+      d.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+      lightmap_ = gpu::GpuImage(ctx.gpu, d);
+      for (size_t l = 0; l < lm.layers.size(); ++l)
+        lightmap_.upload(lm.layers[l], static_cast<uint32_t>(l));
+      lightmap = lightmap_.view();
+    }
+    auto storage = [&](const void* bytes, size_t size, gpu::Buffer* buffer) -> VkBuffer {
+      if (size == 0) return g.dummy_buffer().handle();
+      *buffer =
+          gpu::Buffer(ctx.gpu, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+      buffer->write(bytes, size);
+      return buffer->handle();
+    };
+    const VkBuffer cubes = storage(data.cubes.data(), data.cubes.size() * sizeof(vec4), &cubes_);
+    const VkBuffer prt =
+        storage(data.prt_transfer.data(), data.prt_transfer.size() * sizeof(vec4), &prt_);
+    const VkBuffer draw_cube =
+        storage(data.draw_cube.data(), data.draw_cube.size() * sizeof(int), &draw_cube_);
+    uniforms_ = gpu::Buffer(ctx.gpu, sizeof(BakedUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            gpu::MemoryUsage::kUpload);
+    set_ = descriptors_.allocate(g.layout(kBakedSet));
+    const auto ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    gpu::DescriptorWriter()
+        .buffer(set_, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
+        .image(set_, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, lightmap,
+               g.clamp_linear().handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)
+        .buffer(set_, 2, ssbo, cubes)
+        .buffer(set_, 3, ssbo, prt)
+        .buffer(set_, 4, ssbo, draw_cube)
+        .commit(ctx.gpu.device());
+  }
+
+  int shading_slot() const override { return kBakedSet; }
+  VkDescriptorSet shading_set() const override { return set_; }
+  void declare(FrameGraph&) override {}  // no passes: the pipelines' shading reads the set
+
+  void update() override {
+    const BakedData& data = ctx_.baked();
+    BakedUniforms u{};
+    const bool prt = !data.prt_transfer.empty();
+    u.info = glm::ivec4(static_cast<int>(data.lightmap.kind), prt ? 1 : 0,
+                        static_cast<int>(data.draw_cube.size()), 0);
+    u.intensity = vec4(param<float>("intensity"), 0.0f, 0.0f, 0.0f);
+    if (prt) {
+      // The lights projected to SH-L1 at the scene centre (point and spot lights treated as
+      // distant).
+      const vec3 centre = ctx_.scene.bounds().center();
+      for (const Light& l : ctx_.lights()) {
+        vec3 w;
+        Color radiance;
+        if (l.type == LightType::kDirectional) {
+          w = -glm::normalize(l.direction);
+          radiance = l.irradiance;
+        } else if (l.type == LightType::kPoint || l.type == LightType::kSpot) {
+          const vec3 to = l.position - centre;
+          const float d2 = std::max(glm::dot(to, to), 1e-12f);
+          w = to / std::sqrt(d2);
+          radiance = l.intensity / d2;
+          if (l.cosine_falloff)
+            radiance *= std::max(-glm::dot(w, glm::normalize(l.direction)), 0.0f);
+        } else {
+          continue;
+        }
+        const float y[4] = {0.282095f, 0.488603f * w.y, 0.488603f * w.z, 0.488603f * w.x};
+        for (int k = 0; k < 4; ++k) u.prt_light[k] += vec4(radiance * y[k], 0.0f);
+      }
+    }
+    uniforms_.write(&u, sizeof(u));
+  }
+
+ private:
+  gpu::DescriptorAllocator descriptors_;
+  gpu::GpuImage lightmap_;
+  gpu::Buffer cubes_, prt_, draw_cube_, uniforms_;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+}  // namespace
+
+TechniqueDecl baked_technique() {
+  TechniqueDecl t;
+  t.name = "baked";
+  t.kind = TechniqueKind::kAddOn;
+  t.summary =
+      "baked lighting shown in the ambient term: light-maps (plain, RNM, SH-L1; --lightmap), "
+      "ambient-cube probes for listed instances, per-vertex SH-L1 PRT (forward); switched on "
+      "when such data is given";
+  t.params = {
+      float_param("intensity", 1.0f, 0.0f, 1e6f, "multiplies the light-map")
+          .slider(UiHint::kLogarithmic, 0.01, 16),
+  };
+  t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
+    return std::make_unique<Baked>(ctx, *find_technique("baked"));
+  };
+  return t;
+}
+
+}  // namespace illum::realtime

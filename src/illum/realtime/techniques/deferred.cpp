@@ -1,0 +1,319 @@
+// The deferred pipeline: a compact G-buffer after a depth pre-pass (albedo + exponent RGBA16F,
+// both normals octahedral in one RGBA16F, specular + material type RGBA8; position from
+// depth; emission + ambient straight into the HDR target), then the lights: one compute
+// dispatch looping over them (default), or per-light volumes with the stencil trick (S001
+// §4.1). With stencil shadow volumes the lighting pass is left out and each light is added
+// by record_masked_light() in a full-screen pass over the G-buffer.
+#include "illum/realtime/frame_globals.h"
+#include "illum/realtime/frame_resources.h"
+#include "illum/realtime/realtime_lights.h"
+#include "illum/realtime/scene_draw.h"
+#include "illum/realtime/stencil_shadows.h"
+#include "illum/realtime/technique_context.h"
+#include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/frame_targets.h"
+#include "illum/realtime/techniques/techniques.h"
+
+namespace illum::realtime {
+
+namespace {
+
+// Compact G-buffer, 20 bytes a pixel plus the HDR target (was 28 + 8 in four fp16 targets).
+constexpr VkFormat kAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // albedo, exponent
+constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // 2 octahedral normals
+constexpr VkFormat kSpecularFormat = VK_FORMAT_R8G8B8A8_UNORM;     // ks, material type
+const char* const kTargets[3] = {"gbuffer.albedo", "gbuffer.normal", "gbuffer.specular"};
+
+// Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
+void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
+  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
+  std::vector<vec3> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  for (vec3& v : p) v = glm::normalize(v);
+  const std::vector<uint32_t> f = {0, 11, 5, 0, 5,  1,  0,  1,  7,  0,  7, 10, 0, 10, 11,
+                                   1, 5,  9, 5, 11, 4,  11, 10, 2,  10, 7, 6,  7, 1,  8,
+                                   3, 9,  4, 3, 4,  2,  3,  2,  6,  3,  6, 8,  3, 8,  9,
+                                   4, 9,  5, 2, 4,  11, 6,  2,  10, 8,  6, 7,  9, 8,  1};
+  std::vector<uint32_t> out;
+  auto mid = [&](uint32_t a, uint32_t b) {
+    p.push_back(glm::normalize(p[a] + p[b]));
+    return static_cast<uint32_t>(p.size() - 1);
+  };
+  for (size_t i = 0; i < f.size(); i += 3) {
+    const uint32_t a = f[i], b = f[i + 1], c = f[i + 2];
+    const uint32_t ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+    out.insert(out.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+  }
+  *positions = std::move(p);
+  *indices = std::move(out);
+}
+
+}  // namespace
+
+namespace {
+
+class Deferred final : public FramePipeline {
+ public:
+  Deferred(TechniqueContext& ctx, const TechniqueDecl& decl)
+      : FramePipeline(ctx, decl), descriptors_(ctx.gpu) {
+    masked_ = ctx.shadow_method().masks_lights();
+    compute_ = param<std::string>("lighting") == "compute";
+    using B = gpu::DescriptorBinding;
+    const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    // shaders/gbuffer.glsl; binding 4 (the HDR target as a storage image) is used by the
+    // compute lighting only.
+    set_layout_ = gpu::DescriptorSetLayout(ctx.gpu, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis},
+                                                     B{4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}});
+    set_ = descriptors_.allocate(set_layout_);
+    layout_ = ctx.globals.shading_layout(set_layout_.handle());
+    const VkPipelineLayout layout = layout_.handle();
+    gpu::GraphicsPipelineDesc g;
+    g.vertex_shader = "forward.vert";
+    g.fragment_shader = "gbuffer.frag";
+    g.vertex_input = mesh_vertex_input(false);
+    g.cull = VK_CULL_MODE_NONE;
+    g.color_formats = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
+    g.depth_format = ctx.depth_format;
+    g.stencil_format = ctx.depth_format;
+    // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
+    gpu::GraphicsPipelineDesc pre = g;
+    pre.fragment_shader = "";
+    pre.color_write = false;
+    prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
+    g.depth_write = false;
+    g.depth_compare = VK_COMPARE_OP_EQUAL;
+    gbuffer_ = gpu::Pipeline(ctx.gpu, layout, g);
+    gpu::GraphicsPipelineDesc l;
+    l.vertex_shader = "deferred_light.vert";
+    l.fragment_shader = "deferred_light.frag";
+    l.vertex_input.stride = sizeof(vec3);
+    l.vertex_input.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
+    l.color_formats = {kHdrFormat};
+    l.depth_format = ctx.depth_format;
+    l.stencil_format = ctx.depth_format;
+    l.depth_write = false;
+    l.depth_clamp = ctx.gpu.depth_clamp();
+    gpu::GraphicsPipelineDesc fs = l;
+    fs.cull = VK_CULL_MODE_NONE;
+    fs.depth_test = false;
+    fs.additive_blend = true;
+    if (masked_) {
+      use_stencil_zero_test(&fs);
+      masked_light_ = gpu::Pipeline(ctx.gpu, layout, fs);
+      return;
+    }
+    if (compute_) {
+      compute_light_ = gpu::Pipeline(ctx.gpu, layout, "deferred_light.comp");
+      return;
+    }
+    std::vector<vec3> sp;
+    std::vector<uint32_t> si;
+    icosphere(&sp, &si);
+    sphere_vertices_ = gpu::make_device_buffer(ctx.gpu, sp.data(), sp.size() * sizeof(vec3),
+                                               VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    sphere_indices_ = gpu::make_device_buffer(ctx.gpu, si.data(), si.size() * sizeof(uint32_t),
+                                              VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    sphere_index_count_ = static_cast<uint32_t>(si.size());
+    // Stencil trick (S001 §4.1): mark pixels whose surface lies inside the sphere (z-fail
+    // count ≠ 0), then shade them once through the back faces.
+    gpu::GraphicsPipelineDesc st = l;
+    st.fragment_shader = "";
+    st.color_write = false;
+    use_z_fail_count(&st);
+    light_stencil_ = gpu::Pipeline(ctx.gpu, layout, st);
+    gpu::GraphicsPipelineDesc lv = l;
+    // Both faces, no depth test (works with the camera inside the sphere); a shaded pixel
+    // zeroes its stencil so the other face cannot light it twice.
+    lv.cull = VK_CULL_MODE_NONE;
+    lv.depth_test = false;
+    lv.additive_blend = true;
+    lv.stencil_test = true;
+    lv.stencil_front = stencil_op(VK_STENCIL_OP_ZERO, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_NOT_EQUAL);
+    lv.stencil_back = lv.stencil_front;
+    light_volume_ = gpu::Pipeline(ctx.gpu, layout, lv);
+    light_fullscreen_ = gpu::Pipeline(ctx.gpu, layout, fs);
+  }
+
+  void declare(FrameGraph& graph) override {
+    // The G-buffer set always holds the HDR target as a storage image and the depth as a
+    // texture, whichever lighting runs.
+    graph.add_resource(hdr_target(VK_IMAGE_USAGE_STORAGE_BIT));
+    graph.add_resource(depth_target(ctx_.depth_format));
+    const VkFormat formats[3] = {kAlbedoFormat, kNormalFormat, kSpecularFormat};
+    for (int k = 0; k < 3; ++k) {
+      ResourceDesc r;
+      r.name = kTargets[k];
+      r.frame_divisor = 1;
+      r.format = formats[k];
+      r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+      graph.add_resource(r);
+    }
+    PassDesc g;
+    g.name = "gbuffer";
+    g.technique = name();
+    g.phase = Phase::kGeometry;
+    for (const char* t : kTargets) g.accesses.push_back({t, kColorAttachment});
+    g.accesses.push_back({"hdr", kColorAttachment});
+    g.accesses.push_back({"depth", kDepthAttachment});
+    g.record = [this](PassContext& pass) { record_gbuffer(pass); };
+    graph.add_pass(std::move(g));
+    if (masked_) return;  // the shadow volumes' per-light passes add the lights
+    PassDesc l;
+    l.name = "lighting";
+    l.technique = name();
+    l.phase = Phase::kLighting;
+    const VkPipelineStageFlags2 stage = compute_ ? kComputeShader : kFragmentShader;
+    for (const char* t : kTargets) l.accesses.push_back({t, kSampled, stage});
+    if (compute_) {
+      l.accesses.push_back({"depth", kSampled, stage});
+      l.accesses.push_back({"hdr", kStorageRead | kStorageWrite, stage});
+    } else {
+      l.accesses.push_back({"depth", kDepthReadOnly | kSampled, stage});
+      l.accesses.push_back({"hdr", kColorAttachment});
+    }
+    for (const Access& a : ctx_.shading_reads(stage)) l.accesses.push_back(a);
+    l.record = [this](PassContext& pass) {
+      compute_ ? record_compute_lighting(pass) : record_light_volumes(pass);
+    };
+    graph.add_pass(std::move(l));
+  }
+
+  void bind() override {
+    const auto ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    const VkSampler nearest = ctx_.globals.nearest().handle();
+    FrameResources& r = ctx_.resources;
+    gpu::DescriptorWriter()
+        .image(set_, 0, cis, r.image(kTargets[0]).view(), nearest, ro)
+        .image(set_, 1, cis, r.image(kTargets[1]).view(), nearest, ro)
+        .image(set_, 2, cis, r.image(kTargets[2]).view(), nearest, ro)
+        .image(set_, 3, cis, r.image("depth").view(), nearest,
+               VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
+        .image(set_, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, r.image("hdr").view(), VK_NULL_HANDLE,
+               VK_IMAGE_LAYOUT_GENERAL)
+        .commit(ctx_.gpu.device());
+  }
+
+  void record_masked_light(PassContext& pass, int light) override {
+    const VkCommandBuffer c = pass.cmd();
+    bind_sets(c, VK_PIPELINE_BIND_POINT_GRAPHICS);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, masked_light_.handle());
+    vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+    PushConstants push{};
+    push.light_index = light;
+    push.view_index = 1;  // deferred_light.vert: the full-screen triangle
+    vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    vkCmdDraw(c, 3, 1, 0, 0);
+  }
+
+  std::vector<Access> masked_light_reads() const override {
+    std::vector<Access> reads;
+    for (const char* t : kTargets) reads.push_back({t, kSampled, kFragmentShader});
+    reads.push_back({"depth", kSampled, kFragmentShader});
+    return reads;
+  }
+
+ private:
+  void bind_sets(VkCommandBuffer c, VkPipelineBindPoint point) const {
+    bind_shading_sets(c, point, layout_.handle(), ctx_.globals, ctx_.shading_sets(set_));
+  }
+
+  void record_gbuffer(PassContext& pass) {
+    FrameResources& r = ctx_.resources;
+    DrawTargets t;
+    for (const char* name : kTargets) t.colors.push_back({r.image(name).view(), true, {}});
+    t.colors.push_back({r.image("hdr").view(), true, {}});
+    t.depth = r.image("depth").layer_view(0);
+    t.stencil = true;
+    t.extent = {ctx_.width(), ctx_.height()};
+    ctx_.drawer.render(pass.cmd(), t, {&prepass_, &gbuffer_}, layout_.handle(),
+                       ctx_.shading_sets(set_), SceneView{});
+  }
+
+  // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
+  void record_compute_lighting(PassContext& pass) {
+    const VkCommandBuffer c = pass.cmd();
+    bind_sets(c, VK_PIPELINE_BIND_POINT_COMPUTE);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, compute_light_.handle());
+    const PushConstants push{};
+    vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    vkCmdDispatch(c, (ctx_.width() + 7) / 8, (ctx_.height() + 7) / 8, 1);
+  }
+
+  void record_light_volumes(PassContext& pass) {
+    const VkCommandBuffer c = pass.cmd();
+    const VkExtent2D extent{ctx_.width(), ctx_.height()};
+    ctx_.drawer.begin_light_scope(c, ctx_.resources.image("hdr").view(),
+                                  ctx_.resources.image("depth").layer_view(0), extent);
+    const VkPipelineLayout layout = layout_.handle();
+    bind_sets(c, VK_PIPELINE_BIND_POINT_GRAPHICS);
+    VkDeviceSize offset = 0;
+    VkBuffer vb = sphere_vertices_.handle();
+    vkCmdBindVertexBuffers(c, 0, 1, &vb, &offset);
+    vkCmdBindIndexBuffer(c, sphere_indices_.handle(), 0, VK_INDEX_TYPE_UINT32);
+    const std::vector<Light>& lights = ctx_.lights();
+    const int single = ctx_.settings().get<int>("lighting.single_light");
+    for (size_t i = 0; i < lights.size(); ++i) {
+      if (single >= 0 && static_cast<int>(i) != single) continue;
+      const Light& l = lights[i];
+      if (!lit_in_real_time(l)) continue;
+      PushConstants push{};
+      push.light_index = static_cast<int>(i);
+      const bool volume = l.type != LightType::kDirectional && l.range > 0.0f;
+      if (volume) {
+        VkClearAttachment clear{VK_IMAGE_ASPECT_STENCIL_BIT, 0, {}};
+        clear.clearValue.depthStencil = {1.0f, 0};
+        VkClearRect rect{{{0, 0}, extent}, 0, 1};
+        vkCmdClearAttachments(c, 1, &clear, 1, &rect);
+        push.view_index = 0;
+        vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_stencil_.handle());
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        vkCmdDrawIndexed(c, sphere_index_count_, 1, 0, 0, 0);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_volume_.handle());
+        vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+        vkCmdDrawIndexed(c, sphere_index_count_, 1, 0, 0, 0);
+      } else {
+        push.view_index = 1;
+        vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+        vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_fullscreen_.handle());
+        vkCmdDraw(c, 3, 1, 0, 0);
+      }
+    }
+    vkCmdEndRendering(c);
+  }
+
+  bool masked_ = false, compute_ = true;
+  gpu::DescriptorAllocator descriptors_;
+  gpu::DescriptorSetLayout set_layout_;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  gpu::PipelineLayout layout_;
+  gpu::Pipeline prepass_, gbuffer_, compute_light_, light_stencil_, light_volume_,
+      light_fullscreen_, masked_light_;
+  gpu::Buffer sphere_vertices_, sphere_indices_;
+  uint32_t sphere_index_count_ = 0;
+};
+
+}  // namespace
+
+TechniqueDecl deferred_technique() {
+  TechniqueDecl t;
+  t.name = "deferred";
+  t.kind = TechniqueKind::kFramePipeline;
+  t.summary =
+      "compact G-buffer after a depth pre-pass (albedo + exponent, two octahedral normals, "
+      "specular + type; position from depth), then the lights over it";
+  t.params = {
+      enum_param("lighting", "compute", {"compute", "volumes"},
+                 "compute: one dispatch looping over the lights; volumes: per-light light "
+                 "volumes with the stencil trick (S001 §4.1)")
+          .structural()
+          .aka("deferred_lighting"),
+  };
+  t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
+    return std::make_unique<Deferred>(ctx, *find_technique("deferred"));
+  };
+  return t;
+}
+
+}  // namespace illum::realtime

@@ -1,0 +1,31 @@
+// The frame's main targets, created by the frame pipeline and read by everything after it:
+// "hdr" (linear radiance, RGBA16F) and "depth" (depth + stencil). Both are read back
+// (Renderer::hdr(), tests) and the HDR target is sampled by the post-processing add-ons.
+#pragma once
+
+#include "illum/realtime/frame_graph.h"
+
+namespace illum::realtime {
+
+inline constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+inline constexpr VkFormat kLdrFormat = VK_FORMAT_R8G8B8A8_UNORM;
+
+inline ResourceDesc hdr_target(uint32_t extra_usage = 0) {
+  ResourceDesc r;
+  r.name = "hdr";
+  r.frame_divisor = 1;
+  r.format = kHdrFormat;
+  r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | extra_usage;
+  return r;
+}
+
+inline ResourceDesc depth_target(VkFormat format) {
+  ResourceDesc r;
+  r.name = "depth";
+  r.frame_divisor = 1;
+  r.format = format;
+  r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  return r;
+}
+
+}  // namespace illum::realtime

@@ -1,0 +1,399 @@
+// Shadow maps (map: PCF, vsm: variance shadow maps) and the "none" method.
+//
+// A cube of distance/far for every point light and every spot wider than 60° (one cube-map
+// array), one 2-D perspective map for every other spot (frustum = the cone widened by 4°,
+// a 2-D array), and 4 cascaded shadow maps of the first directional light (S001 §4.2.1).
+// Cube faces and spot maps are views of the "shadow_maps" pass: re-rendered when the lights
+// change, every N frames, or k of them a frame in turn (round-robin); cascades follow the
+// camera every frame. The lighting passes read them through this method's set (slot 3,
+// shaders/shadow_set.glsl).
+#include <algorithm>
+#include <cmath>
+
+#include "illum/realtime/frame_globals.h"
+#include "illum/realtime/frame_resources.h"
+#include "illum/realtime/scene_draw.h"
+#include "illum/realtime/technique_context.h"
+#include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/techniques.h"
+
+namespace illum::realtime {
+
+namespace {
+
+// Shadow maps hold distance/far and, for VSM only, its square: PCF needs half the bytes.
+constexpr VkFormat kVsmFormat = VK_FORMAT_R32G32_SFLOAT;
+constexpr VkFormat kPcfFormat = VK_FORMAT_R32_SFLOAT;
+constexpr VkFormat kShadowDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr int kCascades = 4;
+
+class NoShadows final : public ShadowMethod {
+ public:
+  using ShadowMethod::ShadowMethod;
+  void declare(FrameGraph&) override {}
+};
+
+class ShadowMaps final : public ShadowMethod {
+ public:
+  ShadowMaps(TechniqueContext& ctx, const TechniqueDecl& decl, bool vsm)
+      : ShadowMethod(ctx, decl), vsm_(vsm), descriptors_(ctx.gpu) {
+    resolution_ = static_cast<uint32_t>(param<int>("resolution"));
+    update_period_ = param<int>("update_period");
+    views_per_frame_ = param<int>("views_per_frame");
+    const std::vector<Light>& lights = ctx.lights();
+    for (size_t i = 0; i < lights.size(); ++i) {
+      const Light& l = lights[i];
+      if (l.type == LightType::kSpot && l.cone_half_angle <= kMaxSpotMapHalfAngle) {
+        if (spot_lights_.size() < kMaxSpotMaps) spot_lights_.push_back(static_cast<int>(i));
+      } else if (l.type == LightType::kPoint || l.type == LightType::kSpot) {
+        if (cube_lights_.size() < kMaxShadowCubes) cube_lights_.push_back(static_cast<int>(i));
+      }
+    }
+    for (size_t i = 0; i < lights.size() && cascade_light_ < 0; ++i)
+      if (lights[i].type == LightType::kDirectional) cascade_light_ = static_cast<int>(i);
+
+    const VkPipelineLayout layout = ctx.globals.default_layout();
+    gpu::GraphicsPipelineDesc sh;
+    sh.vertex_shader = "shadow_cube.vert";
+    sh.fragment_shader = "shadow_cube.frag";
+    sh.vertex_input = mesh_vertex_input(true);
+    sh.cull = VK_CULL_MODE_NONE;
+    sh.color_formats = {format()};
+    sh.depth_format = kShadowDepthFormat;
+    if (!cube_lights_.empty() || !spot_lights_.empty())
+      radial_ = gpu::Pipeline(ctx.gpu, layout, sh);
+    if (cascade_light_ >= 0) {
+      sh.fragment_shader = "shadow_dir.frag";
+      sh.depth_clamp = ctx.gpu.depth_clamp();  // casters behind the cascade's near plane
+      ortho_ = gpu::Pipeline(ctx.gpu, layout, sh);
+    }
+    const size_t views = 6 * cube_lights_.size() + spot_lights_.size() + kCascades;
+    views_ = gpu::Buffer(ctx.gpu, views * sizeof(glm::mat4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                         gpu::MemoryUsage::kUpload);
+    shadow_lights_ =
+        gpu::Buffer(ctx.gpu, std::max<size_t>(1, lights.size()) * sizeof(GpuShadowLight),
+                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+    uniforms_ = gpu::Buffer(ctx.gpu, sizeof(ShadowUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                            gpu::MemoryUsage::kUpload);
+    set_ = descriptors_.allocate(ctx.globals.layout(kShadowSet));
+  }
+
+  int shading_slot() const override { return kShadowSet; }
+  VkDescriptorSet shading_set() const override { return set_; }
+  std::vector<std::string> shading_reads() const override {
+    std::vector<std::string> reads;
+    if (!cube_lights_.empty()) reads.push_back("shadow.cubes");
+    if (!spot_lights_.empty()) reads.push_back("shadow.spots");
+    if (cascade_light_ >= 0) reads.push_back("shadow.cascades");
+    return reads;
+  }
+
+  void declare(FrameGraph& graph) override {
+    auto map = [&](const char* name, uint32_t layers, bool cube, bool array) {
+      ResourceDesc r;
+      r.name = name;
+      r.width = r.height = resolution_;
+      r.format = format();
+      r.layers = layers;
+      r.cube = r.cube_array = cube;
+      r.array = array;
+      graph.add_resource(r);
+    };
+    const bool radial = !cube_lights_.empty() || !spot_lights_.empty();
+    if (!radial && cascade_light_ < 0) return;
+    ResourceDesc depth;
+    depth.name = "shadow.depth";
+    depth.width = depth.height = resolution_;
+    depth.format = kShadowDepthFormat;
+    graph.add_resource(depth);
+    if (cascade_light_ >= 0) {
+      map("shadow.cascades", kCascades, false, false);
+      PassDesc p;
+      p.name = "cascades";
+      p.technique = name();
+      p.phase = Phase::kShadows;
+      p.accesses = {{"shadow.cascades", kColorAttachment}, {"shadow.depth", kDepthAttachment}};
+      p.record = [this](PassContext& pass) {
+        for (int k = 0; k < kCascades; ++k)
+          render_view(pass, ortho_, "shadow.cascades", static_cast<uint32_t>(k),
+                      cascade_view_offset() + k, cascade_light_);
+      };
+      graph.add_pass(std::move(p));
+    }
+    if (!radial) return;
+    PassDesc p;
+    p.name = "shadow_maps";
+    p.technique = name();
+    p.phase = Phase::kShadows;
+    if (!cube_lights_.empty()) {
+      map("shadow.cubes", static_cast<uint32_t>(6 * cube_lights_.size()), true, false);
+      p.accesses.push_back({"shadow.cubes", kColorAttachment});
+    }
+    if (!spot_lights_.empty()) {
+      map("shadow.spots", static_cast<uint32_t>(spot_lights_.size()), false, true);
+      p.accesses.push_back({"shadow.spots", kColorAttachment});
+    }
+    p.accesses.push_back({"shadow.depth", kDepthAttachment});
+    // The maps depend on the lights and the geometry only (bias, PCF and τ are applied
+    // when they are looked up).
+    const Changes changes = kLightsChanged | kGeometryChanged;
+    const int items = static_cast<int>(6 * cube_lights_.size() + spot_lights_.size());
+    p.schedule = views_per_frame_ > 0 ? Schedule::round_robin(items, views_per_frame_, changes)
+                 : update_period_ > 0 ? Schedule::every_n(update_period_, 0, changes)
+                                      : Schedule::on_change(changes);
+    p.schedule.items = items;
+    p.record = [this](PassContext& pass) {
+      const size_t cube_views = 6 * cube_lights_.size();
+      for (int v : pass.items()) {
+        const size_t view = static_cast<size_t>(v);
+        if (view < cube_views)
+          render_view(pass, radial_, "shadow.cubes", static_cast<uint32_t>(view), v,
+                      cube_lights_[view / 6]);
+        else
+          render_view(pass, radial_, "shadow.spots", static_cast<uint32_t>(view - cube_views), v,
+                      spot_lights_[view - cube_views]);
+      }
+    };
+    graph.add_pass(std::move(p));
+  }
+
+  void bind() override {
+    FrameResources& r = ctx_.resources;
+    const FrameGlobals& g = ctx_.globals;
+    // PCF compares single texels; VSM filters the moments.
+    const VkSampler sampler = vsm_ ? g.clamp_linear().handle() : g.nearest().handle();
+    const auto ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    auto view = [&](const char* name, const gpu::GpuImage& dummy) {
+      return r.has(name) ? r.image(name).view() : dummy.view();
+    };
+    gpu::DescriptorWriter()
+        .buffer(set_, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
+        .buffer(set_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, views_.handle())
+        .image(set_, 2, cis, view("shadow.cubes", g.dummy_cube()), sampler, ro)
+        .image(set_, 3, cis, view("shadow.cascades", g.dummy_array()), sampler, ro)
+        .image(set_, 4, cis, view("shadow.spots", g.dummy_array()), sampler, ro)
+        .buffer(set_, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadow_lights_.handle())
+        .commit(ctx_.gpu.device());
+  }
+
+  void update() override {
+    const std::vector<Light>& lights = ctx_.lights();
+    std::vector<GpuShadowLight> sl(std::max<size_t>(1, lights.size()));
+    for (size_t i = 0; i < lights.size(); ++i) {
+      sl[i].slot = glm::ivec4(-1, 0, 0, 0);
+      sl[i].params = vec4(shadow_far(lights[i]), 0.0f, 0.0f, 0.0f);
+    }
+    std::vector<glm::mat4> views;
+    for (size_t s = 0; s < cube_lights_.size(); ++s) {
+      const Light& l = lights[static_cast<size_t>(cube_lights_[s])];
+      GpuShadowLight& g = sl[static_cast<size_t>(cube_lights_[s])];
+      g.slot = glm::ivec4(static_cast<int>(s), static_cast<int>(views.size()), 6, 0);
+      const float far_plane = g.params.x;
+      // No y flip: Vulkan and OpenGL both map NDC y = −1 to the first row in memory, so the
+      // OpenGL cube-face conventions (face axes and up vectors) apply unchanged.
+      const mat4 proj = glm::perspectiveRH_ZO(radians(90.0f), 1.0f, far_plane * 1e-4f, far_plane);
+      const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+      const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+      for (int f = 0; f < 6; ++f)
+        views.push_back(proj * glm::lookAtRH(l.position, l.position + axes[f], ups[f]));
+    }
+    for (size_t s = 0; s < spot_lights_.size(); ++s) {
+      const Light& l = lights[static_cast<size_t>(spot_lights_[s])];
+      GpuShadowLight& g = sl[static_cast<size_t>(spot_lights_[s])];
+      g.slot = glm::ivec4(static_cast<int>(s), static_cast<int>(views.size()), 1, 1);
+      const float far_plane = g.params.x;
+      // A few degrees beyond the cone so PCF taps and the normal offset stay on the map.
+      const float half_fov = std::min(l.cone_half_angle + radians(4.0f), radians(80.0f));
+      g.params.y = std::tan(half_fov);
+      const vec3 dir = glm::normalize(l.direction);
+      const vec3 up = std::abs(dir.y) > 0.99f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+      const mat4 proj = glm::perspectiveRH_ZO(2.0f * half_fov, 1.0f, far_plane * 1e-4f, far_plane);
+      views.push_back(proj * glm::lookAtRH(l.position, l.position + dir, up));
+    }
+    ShadowUniforms u{};
+    // PCF reads taps, bias and radius; VSM τ and the minimum variance.
+    u.config = glm::ivec4(static_cast<int>(vsm_ ? ShadowLookup::kVsm : ShadowLookup::kMap),
+                          vsm_ ? 0 : param<int>("pcf_taps"), 0, 0);
+    u.params = vec4(vsm_ ? 0.0f : param<float>("bias"), vsm_ ? 0.0f : param<float>("pcf_radius"),
+                    vsm_ ? param<float>("tau") : 0.0f, 1e-7f);
+    if (cascade_light_ >= 0) {
+      GpuShadowLight& g = sl[static_cast<size_t>(cascade_light_)];
+      glm::vec4 half_widths(0.0f);
+      u.cascade_splits = update_cascades(&views, &half_widths);
+      g.slot = glm::ivec4(-1, static_cast<int>(views.size()) - kCascades, kCascades, 0);
+      g.params = half_widths;
+    }
+    if (views.empty()) views.emplace_back(1.0f);
+    views_.write(views.data(), views.size() * sizeof(glm::mat4));
+    shadow_lights_.write(sl.data(), sl.size() * sizeof(GpuShadowLight));
+    uniforms_.write(&u, sizeof(u));
+  }
+
+ private:
+  VkFormat format() const { return vsm_ ? kVsmFormat : kPcfFormat; }
+  int cascade_view_offset() const {
+    return static_cast<int>(6 * cube_lights_.size() + spot_lights_.size());
+  }
+  float shadow_far(const Light& l) const {
+    if (l.range > 0.0f) return l.range;
+    const Bounds3 b = ctx_.scene.bounds();
+    return glm::length(l.position - b.center()) + b.diagonal() + 1e-3f;
+  }
+
+  // One view of the scene into one layer of `target` (shadow_cube: radial distance / far,
+  // shadow_dir: orthographic depth; VSM: also its square).
+  void render_view(PassContext& pass, const gpu::Pipeline& pipeline, const char* target,
+                   uint32_t layer, int view, int light) {
+    pass.use("shadow.depth", kDepthAttachment);  // the last view's depth test is done with it
+    DrawTargets t;
+    t.colors = {{ctx_.resources.image(target).layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}}}};
+    t.depth = ctx_.resources.image("shadow.depth").view();
+    t.store_depth = false;
+    t.extent = {resolution_, resolution_};
+    SceneView v;
+    v.view_index = view;
+    v.light_index = light;
+    v.per_draw = false;
+    ctx_.drawer.render(
+        pass.cmd(), t, {&pipeline}, ctx_.globals.default_layout(),
+        {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kBakedSet)}, v);
+  }
+
+  // Cascaded shadow maps (S001 §4.2.1): the view frustum split between uniform and
+  // logarithmic (λ = 0.5); each split's bounding sphere gets an orthographic light view,
+  // snapped to whole texels so the maps do not shimmer as the camera moves. Appends the
+  // cascades' matrices to `views`; returns the splits.
+  glm::vec4 update_cascades(std::vector<glm::mat4>* views, glm::vec4* half_widths) const {
+    const FrameView& fv = ctx_.view();
+    const Camera& camera = fv.camera;
+    const float near_plane = fv.near_plane, far_plane = fv.far_plane, aspect = fv.aspect;
+    const Light& l = ctx_.lights()[static_cast<size_t>(cascade_light_)];
+    const vec3 dir = glm::normalize(l.direction);
+    const mat4 inv_view = glm::inverse(camera.view_matrix());
+    const float tan_half = std::tan(0.5f * camera.fov_y);
+    const float scene_extent = ctx_.scene.bounds().diagonal();
+    glm::vec4 splits(far_plane);
+    float prev = near_plane;
+    for (int k = 0; k < kCascades; ++k) {
+      const float f = static_cast<float>(k + 1) / kCascades;
+      const float split = 0.5f * (near_plane + (far_plane - near_plane) * f) +
+                          0.5f * near_plane * std::pow(far_plane / near_plane, f);
+      splits[k] = split;
+      vec3 center(0.0f);
+      vec3 corners[8];
+      int n = 0;
+      for (float z : {prev, split})
+        for (int sx : {-1, 1})
+          for (int sy : {-1, 1}) {
+            corners[n] =
+                vec3(inv_view * vec4(sx * z * tan_half * aspect, sy * z * tan_half, -z, 1.0f));
+            center += corners[n++];
+          }
+      center /= 8.0f;
+      float radius = 0.0f;
+      for (const vec3& c : corners) radius = std::max(radius, glm::length(c - center));
+      const vec3 up = std::abs(dir.y) > 0.99f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+      mat4 view = glm::lookAtRH(center - dir * scene_extent, center, up);
+      // Snap the light-space centre to the texel grid.
+      const float texel = 2.0f * radius / static_cast<float>(resolution_);
+      vec4 origin = view * vec4(center, 1.0f);
+      const vec2 snapped = glm::floor(vec2(origin) / texel) * texel;
+      view = glm::translate(mat4(1.0f), vec3(snapped - vec2(origin), 0.0f)) * view;
+      const mat4 proj =
+          glm::orthoRH_ZO(-radius, radius, -radius, radius, 0.0f, scene_extent + radius);
+      views->push_back(proj * view);
+      (*half_widths)[k] = radius;
+      prev = split;
+    }
+    return splits;
+  }
+
+  bool vsm_;
+  uint32_t resolution_ = 512;
+  int update_period_ = 0, views_per_frame_ = 0;
+  std::vector<int> cube_lights_;  // light index of each cube
+  // Narrow spot lights get one 2-D perspective map (the cone's frustum) instead of 6 faces.
+  std::vector<int> spot_lights_;
+  int cascade_light_ = -1;
+  gpu::Pipeline radial_, ortho_;
+  gpu::Buffer views_, shadow_lights_, uniforms_;
+  gpu::DescriptorAllocator descriptors_;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+// The parameters map and vsm share (each declares its own copy; the aliases set both).
+std::vector<ParamDecl> map_params() {
+  return {
+      int_param("resolution", 512, 16, 8192, "side of a cube face, spot map or cascade (texels)")
+          .structural()
+          .aka("shadow_resolution")
+          .slider(UiHint::kPowerOfTwo, 64, 4096),
+      int_param("update_period", 0, 0, 1000000,
+                "0: re-render the cube and spot maps only when the lights change; N: every N "
+                "frames (cascades follow the camera every frame)")
+          .structural()
+          .aka("shadow_update_period")
+          .slider(UiHint::kLinear, 0, 30),
+      int_param("views_per_frame", 0, 0, 1000,
+                "k > 0: re-render k cube faces or spot maps a frame in turn (round-robin) "
+                "instead of all at once; all of them still when the lights change")
+          .structural()
+          .slider(UiHint::kLinear, 0, 12),
+  };
+}
+
+}  // namespace
+
+TechniqueDecl no_shadows_technique() {
+  TechniqueDecl t;
+  t.name = "none";
+  t.kind = TechniqueKind::kShadowMethod;
+  t.summary = "no shadows";
+  t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
+    return std::make_unique<NoShadows>(ctx, *find_technique("none"));
+  };
+  return t;
+}
+
+TechniqueDecl shadow_map_technique() {
+  TechniqueDecl t;
+  t.name = "map";
+  t.kind = TechniqueKind::kShadowMethod;
+  t.summary =
+      "shadow maps of distance/far: a cube per point light and wide spot, a 2-D map per spot up "
+      "to 60°, 4 cascades for the first directional light; PCF with rotated Poisson taps";
+  t.params = map_params();
+  t.params.push_back(
+      int_param("pcf_taps", 16, 1, 64, "PCF taps (1: hard shadows)").aka("pcf_taps"));
+  t.params.push_back(float_param("pcf_radius", 1.5f, 0.0f, 64.0f, "PCF radius in texels")
+                         .aka("pcf_radius")
+                         .slider(UiHint::kLinear, 0, 8));
+  t.params.push_back(
+      float_param("bias", 0.002f, 0.0f, 1.0f, "depth bias relative to the light's far distance")
+          .aka("shadow_bias")
+          .slider(UiHint::kLogarithmic, 0, 0.02));
+  t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
+    return std::make_unique<ShadowMaps>(ctx, *find_technique("map"), false);
+  };
+  return t;
+}
+
+TechniqueDecl vsm_technique() {
+  TechniqueDecl t;
+  t.name = "vsm";
+  t.kind = TechniqueKind::kShadowMethod;
+  t.summary =
+      "variance shadow maps (S001 §4.2): the maps of `map` with the second moment, Chebyshev's "
+      "bound with the light-bleeding threshold τ";
+  t.params = map_params();
+  t.params.push_back(float_param("tau", 0.2f, 0.0f, 0.99f,
+                                 "light-bleeding threshold: [τ, 1] is remapped to [0, 1]")
+                         .aka("vsm_tau"));
+  t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
+    return std::make_unique<ShadowMaps>(ctx, *find_technique("vsm"), true);
+  };
+  return t;
+}
+
+}  // namespace illum::realtime
