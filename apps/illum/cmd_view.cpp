@@ -96,7 +96,7 @@ void run_view(const ViewArgs& args) {
   viewer.seconds = args.seconds;
   viewer.screenshot = args.screenshot;
   Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
-  realtime::  realtime::check_realtime_input(scene, settings);
+  realtime::check_realtime_input(scene, settings.get<int>("lighting.single_light"));
   log::release();  // the input is checked: the load's warnings may show now
   if (!realtime::run_viewer(scene, settings, viewer, &camera, &reason)) {
     std::fprintf(stderr,
