@@ -360,4 +360,27 @@ TEST_F(DocsClaims, BakeDefaultsAsDocumented) {
   EXPECT_NE(slurp(raw / "lightmap.json").find("\"denoise\": false"), std::string::npos);
 }
 
+#ifdef ILLUM_HAVE_GPU
+// docs/realtime.md, Errors: "no Vulkan device → `no Vulkan device found: install
+// mesa-vulkan-drivers (lavapipe) or a GPU driver`". The loader is pointed at a driver list
+// that does not exist, as on a machine without any Vulkan driver: one line, exit 2, no image.
+TEST_F(DocsClaims, NoVulkanDeviceIsOneLineNamingTheFix) {
+  const std::string no_driver =
+      "env VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json " +
+      quoted(std::string(ILLUM_BINARY_DIR) + "/bin/illum");
+  const std::string message = "no Vulkan device found: install mesa-vulkan-drivers (lavapipe)";
+  const fs::path png = dir_ / "frame.png";
+  expect_bad_input(
+      run_shell_in(dir_, no_driver + " frame cornell --width 16 --height 16 -o " + png.string()),
+      message);
+  EXPECT_FALSE(fs::exists(png));
+  // `illum view` without a display first says it falls back to one headless frame
+  // (realtime.md, illum view), then fails the same way, writing nothing.
+  const Result view = run_shell_in(dir_, no_driver + " view cornell");
+  EXPECT_EQ(view.exit_code, 2) << view.err;
+  EXPECT_NE(view.err.find("illum: error: " + message), std::string::npos) << view.err;
+  EXPECT_FALSE(fs::exists(dir_ / "view.png"));
+}
+#endif
+
 }  // namespace
