@@ -247,5 +247,53 @@ TEST(FormatMapping, GltfSparseAccessorsAndOrthographicCameras) {
       load_scene(with_camera({{"xmag", 1}, {"ymag", 1}, {"znear", 0}, {"zfar", 10}}, "fine.gltf")));
 }
 
+// scene-format.md, Rules: "Lights and cameras that come from a glTF file are transformed with
+// its meshes. The first camera found wins: the scene file's camera, else the first glTF
+// camera." "A mesh used by a single instance gets its whole transform baked into its
+// vertices (the instance transform becomes identity); meshes instanced several times keep
+// their transforms." glTF: "glTF meshes used by several nodes are shared".
+TEST(FormatMapping, GltfThroughASceneFileInstancesLightsAndCamera) {
+  TempDir dir;
+  test::Asset a = test::make_asset();
+  a.json["nodes"].push_back({{"name", "quad_again"}, {"mesh", 0}, {"translation", {0, 0, 7}}});
+  a.json["scenes"][0]["nodes"].push_back(a.json["nodes"].size() - 1);
+  test::write_gltf(dir, a);
+  const Scene scaled = load_scene(
+      dir.write("scaled.illum.json", R"({"meshes": [{"file": "asset.gltf", "scale": 0.5}]})"));
+  int points = 0;
+  for (const Light& l : scaled.lights) {
+    if (l.type != LightType::kPoint) continue;
+    ++points;
+    EXPECT_NEAR(l.position.x, 1.0f, 1e-5f) << "the bulb at (2, 2, 2), scaled by 0.5";
+    EXPECT_NEAR(l.position.y, 1.0f, 1e-5f);
+    EXPECT_NEAR(l.position.z, 1.0f, 1e-5f);
+  }
+  EXPECT_EQ(points, 1);
+  ASSERT_TRUE(scaled.camera.has_value());
+  EXPECT_NEAR(scaled.camera->position.y, 0.5f, 1e-5f) << "the glTF camera, scaled";
+  // The quad (mesh 0) is used by two nodes: one shared mesh, two instances with their own
+  // transforms; the single-use triangle mesh has its transform in its vertices.
+  int quad_instances = 0, identity_instances = 0;
+  size_t quad_mesh = scaled.meshes.size();
+  for (const Instance& i : scaled.instances) {
+    const bool identity = i.transform == mat4(1.0f);
+    identity_instances += identity;
+    if (i.name == "quad_node" || i.name == "quad_again") {
+      ++quad_instances;
+      EXPECT_FALSE(identity) << i.name;
+      if (quad_mesh == scaled.meshes.size()) quad_mesh = i.mesh;
+      EXPECT_EQ(i.mesh, quad_mesh) << "one shared mesh";
+    }
+  }
+  EXPECT_EQ(quad_instances, 2);
+  EXPECT_GE(identity_instances, 1) << "the meshes used once are baked";
+
+  const Scene own = load_scene(dir.write("own.illum.json", R"({
+    "meshes": [{"file": "asset.gltf"}],
+    "camera": {"position": [9, 9, 9], "look_at": [0, 0, 0], "fov_y_deg": 30}})"));
+  ASSERT_TRUE(own.camera.has_value());
+  EXPECT_EQ(own.camera->position, vec3(9.0f)) << "the scene file's camera wins";
+}
+
 }  // namespace
 }  // namespace illum
