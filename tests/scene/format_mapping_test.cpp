@@ -295,5 +295,33 @@ TEST(FormatMapping, GltfThroughASceneFileInstancesLightsAndCamera) {
   EXPECT_EQ(own.camera->position, vec3(9.0f)) << "the scene file's camera wins";
 }
 
+// scene-format.md, Rules: the environment is "exactly one of `file` ... or `constant`", and an
+// environment map's texels must be "finite ... and not negative"; "(any `*.json`)" is a
+// scene file.
+TEST(FormatMapping, SceneFileEnvironmentRules) {
+  TempDir dir;
+  dir.write("tri.obj", "o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  Image sky(8, 4, 3, 0.5f);
+  write_image(dir.file("sky.exr"), sky);
+  sky.set_rgb(3, 2, Color(0.5f, -0.25f, 0.5f));
+  write_image(dir.file("negative.exr"), sky);
+  const auto scene_with = [&](const std::string& name, const std::string& environment) {
+    return dir.write(name,
+                     R"({"meshes": [{"file": "tri.obj"}], "environment": )" + environment + "}");
+  };
+  for (const char* env : {R"({"file": "sky.exr", "constant": [1, 1, 1]})", R"({"scale": 2})"}) {
+    const std::string path = scene_with("env.illum.json", env);
+    const std::string m = error_of([&] { load_scene(path); });
+    EXPECT_TRUE(contains(m, "env.illum.json") && contains(m, "exactly one of 'file' or 'constant'"))
+        << env << ": " << m;
+  }
+  const std::string negative = scene_with("neg.json", R"({"file": "negative.exr"})");
+  const std::string m = error_of([&] { load_scene(negative); });
+  EXPECT_TRUE(contains(m, "negative.exr") && contains(m, "negative value at texel (3, 2)")) << m;
+  const Scene fine = load_scene(scene_with("fine.json", R"({"file": "sky.exr", "scale": 2})"));
+  ASSERT_TRUE(fine.environment.has_value());
+  EXPECT_EQ(fine.environment->scale, 2.0f);
+}
+
 }  // namespace
 }  // namespace illum
