@@ -255,6 +255,36 @@ TEST(PhotonIntegrator, ShadowPhotonsReproduceShadowsFarFromEdges) {
   }
 }
 
+// docs/photon-mapping.md, Estimators: "Photons whose stored normal differs from the query
+// surface's by more than ~45°, or that lie on the other side, get f_r = 0 (corners, thin
+// walls)". A Lambert floor point (normal +y) seen from above, and photons arriving from
+// straight above (so the BRDF alone would count them) stored on surfaces turned by θ about
+// x: counted up to 45° (cos θ ≥ 0.7, the rule's threshold: 45.6°), ignored from 46° on —
+// a wall meeting the floor at a corner is 90°, the far side of a thin wall 180°.
+TEST(PhotonShading, PhotonsStoredOnOtherSurfacesAreIgnored) {
+  Material lambert;
+  lambert.albedo = Color(0.5f);
+  const vec3 up(0, 1, 0);
+  const Bsdf bsdf(lambert, lambert.albedo, Frame::from_normal(up), up);
+  SurfaceInteraction si;
+  si.ng = si.ns = up;
+  si.shading = Frame::from_normal(up);
+  const vec3 wo = glm::normalize(vec3(0.3f, 1.0f, 0.2f));
+  for (const float degrees : {0.0f, 30.0f, 45.0f, 46.0f, 60.0f, 90.0f, 135.0f, 180.0f}) {
+    Photon ph;
+    ph.wi = up;
+    ph.power = Color(1.0f);
+    const float t = radians(degrees);
+    ph.normal = vec3(0.0f, std::cos(t), std::sin(t));
+    const Color f = photon_brdf(bsdf, si, wo, ph);
+    if (degrees <= 45.0f) {
+      EXPECT_NEAR(f.g, 0.5f / kPi, 1e-6f) << degrees << "°: a photon of this surface";
+    } else {
+      EXPECT_EQ(f.g, 0.0f) << degrees << "°: a photon of another surface";
+    }
+  }
+}
+
 TEST(PhotonTracer, PointLightIrradianceOnAPlane) {
   Light l;
   l.type = LightType::kPoint;

@@ -171,6 +171,17 @@ TEST(PhotonEstimate, FilterNormalizationIntegratesToOne) {
       integral += filter_weight(filter, x, 1.0f) / steps;
     }
     EXPECT_NEAR(integral / filter_normalization(filter), 1.0, 1e-4);
+    // docs/photon-mapping.md: Jensen's Gaussian constants (α = 0.918, β = 1.953) integrate to
+    // 0.531 over the disc, not 1 — the reason the estimate divides by the integral. The
+    // midpoint sum above is accurate to far better than the quoted three digits.
+    if (type == PhotonFilter::kCone) {
+      EXPECT_EQ(filter.cone_k, 1.1f);  // the page's k_c
+    }
+    if (type == PhotonFilter::kGaussian) {
+      EXPECT_EQ(filter.gauss_alpha, 0.918f);
+      EXPECT_EQ(filter.gauss_beta, 1.953f);
+      EXPECT_NEAR(integral, 0.531, 0.0005);
+    }
   }
 }
 

@@ -1,0 +1,68 @@
+# docs/DESIGN.md, Layers: "A layer includes only layers below it. Each folder under src/illum/
+# is one CMake target linking only what it needs ... Every folder has a short README.md."
+# Run as a test (tests/CMakeLists.txt): cmake -DSRC=<repo>/src/illum -P check_layers.cmake.
+# For every folder, the layers it may include are those its CMakeLists.txt links
+# (illum::NAME in PUBLIC_DEPS or PRIVATE_DEPS), followed transitively; any other
+# `#include "illum/LAYER/..."` in its sources, or a missing README.md, fails.
+cmake_minimum_required(VERSION 3.25)
+file(GLOB _layers RELATIVE ${SRC} ${SRC}/*)
+set(_names "")
+foreach(_l ${_layers})
+  if(IS_DIRECTORY ${SRC}/${_l})
+    list(APPEND _names ${_l})
+  endif()
+endforeach()
+list(LENGTH _names _count)
+if(_count LESS 2)
+  message(FATAL_ERROR "no layers found under ${SRC}")
+endif()
+
+# Direct dependencies of each layer, from its CMakeLists.txt.
+foreach(_l ${_names})
+  file(READ ${SRC}/${_l}/CMakeLists.txt _cmake)
+  string(REGEX MATCHALL "illum::[a-z_]+" _deps "${_cmake}")
+  set(_direct_${_l} "")
+  foreach(_d ${_deps})
+    string(REPLACE "illum::" "" _d ${_d})
+    if(NOT _d STREQUAL _l AND _d IN_LIST _names)
+      list(APPEND _direct_${_l} ${_d})
+    endif()
+  endforeach()
+endforeach()
+
+set(_failures "")
+foreach(_l ${_names})
+  # Transitive closure of the direct dependencies.
+  set(_allowed ${_l})
+  set(_todo ${_direct_${_l}})
+  while(_todo)
+    list(POP_FRONT _todo _d)
+    if(NOT _d IN_LIST _allowed)
+      list(APPEND _allowed ${_d})
+      list(APPEND _todo ${_direct_${_d}})
+    endif()
+  endwhile()
+  if(NOT EXISTS ${SRC}/${_l}/README.md)
+    list(APPEND _failures "src/illum/${_l} has no README.md")
+  endif()
+  file(GLOB _sources ${SRC}/${_l}/*.h ${SRC}/${_l}/*.cpp)
+  foreach(_f ${_sources})
+    file(STRINGS ${_f} _includes REGEX "^#include \"illum/[a-z_]+/")
+    foreach(_inc ${_includes})
+      string(REGEX REPLACE "^#include \"illum/([a-z_]+)/.*" "\\1" _target "${_inc}")
+      if(NOT _target IN_LIST _allowed)
+        get_filename_component(_name ${_f} NAME)
+        string(JOIN ", " _links ${_allowed})
+        list(APPEND _failures
+             "src/illum/${_l}/${_name} includes illum/${_target}/, a layer it does not link (it may include: ${_links})")
+      endif()
+    endforeach()
+  endforeach()
+  string(JOIN ", " _links ${_allowed})
+  message(STATUS "${_l}: may include ${_links}")
+endforeach()
+
+if(_failures)
+  string(REPLACE ";" "\n  " _text "${_failures}")
+  message(FATAL_ERROR "layering broken:\n  ${_text}")
+endif()
