@@ -139,7 +139,7 @@ void add_bake_command(CLI::App& app) {
       ->capture_default_str();
   // Well-formed numbers of the right sign here; the atlas and the baker own the exact ranges.
   cmd->add_option("--resolution", args->resolution, "atlas side in texels")
-      ->transform(number(1, INT_MAX))
+      ->transform(number(atlas::kMinResolution, atlas::kMaxResolution))
       ->capture_default_str();
   cmd->add_option("--texel-size", args->texel_size,
                   "metres per texel (0: the finest that fits the resolution)")
@@ -151,7 +151,8 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--bounces", args->max_bounces, "path vertices after the texel")
       ->transform(number(0, INT_MAX))
       ->capture_default_str();
-  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same maps)")
+  cmd->add_option("--seed", args->seed,
+                  "random seed (same seed: same maps, whatever the thread count)")
       ->transform(number<uint64_t>(0, UINT64_MAX));
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));

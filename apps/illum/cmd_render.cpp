@@ -131,7 +131,8 @@ void add_render_command(CLI::App& app) {
       ->transform(number(1, kMaxImageSide));
   cmd->add_option("--spp", args->spp, "samples per pixel (default: scene settings)")
       ->transform(number(1, 1 << 24));
-  cmd->add_option("--seed", args->seed, "random seed (same seed and threads: same image)")
+  cmd->add_option("--seed", args->seed,
+                  "random seed (same seed: same image, whatever the thread count)")
       ->transform(number<uint64_t>(0, UINT64_MAX));
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));

@@ -26,7 +26,7 @@ using glm::dvec3;
 
 AtlasOptions AtlasOptions::from_params(const Params& params) {
   AtlasOptions o;
-  o.resolution = params.get_int_in("resolution", o.resolution, 16, 16384);
+  o.resolution = params.get_int_in("resolution", o.resolution, kMinResolution, kMaxResolution);
   o.texel_size = params.get<float>("texel_size", o.texel_size);
   if (o.texel_size < 0.0f)
     throw Error(fmt::format("{} = {} must be ≥ 0 (metres per texel; 0 = the finest that fits)",
@@ -65,8 +65,9 @@ constexpr double kMaxHostBlocks = 1 << 16;
 constexpr int kMaxHolesPerHost = 12;
 
 void validate_options(const AtlasOptions& o) {
-  if (o.resolution < 16 || o.resolution > 16384)
-    throw Error(fmt::format("atlas: resolution {} is outside [16, 16384]", o.resolution));
+  if (o.resolution < kMinResolution || o.resolution > kMaxResolution)
+    throw Error(fmt::format("atlas: resolution {} is outside [{}, {}]", o.resolution,
+                            kMinResolution, kMaxResolution));
   if (!std::isfinite(o.texel_size) || o.texel_size < 0.0f)
     throw Error(fmt::format("atlas: texel_size {} must be finite and ≥ 0", o.texel_size));
   if (o.padding < 1 || o.padding > 16)

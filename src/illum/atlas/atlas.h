@@ -19,8 +19,13 @@
 
 namespace illum::atlas {
 
+// The atlas side's range: below 16 texels no chart fits its padding; 16384 is the image
+// limit of every other output (render/integrator.h kMaxImageSide).
+inline constexpr int kMinResolution = 16;
+inline constexpr int kMaxResolution = 16384;
+
 struct AtlasOptions {
-  int resolution = 512;           // atlas width = height, in texels
+  int resolution = 512;           // atlas width = height, in texels, in [kMin, kMaxResolution]
   float texel_size = 0.0f;        // world metres per texel; 0 = the finest that fits
   int padding = 2;                // empty texels between charts (≥ 1)
   float max_chart_angle = 45.0f;  // degrees: a chart's normals stay within this of its axis
