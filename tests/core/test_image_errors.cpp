@@ -293,6 +293,39 @@ TEST_F(ImageErrors, JpegHuffmanTablesAreChecked) {
   EXPECT_MESSAGE(decode_error(bad_class, "class.jpg"), "class.jpg", "class 2 and id 4");
 }
 
+TEST_F(ImageErrors, JpegTablesAreDefinedBeforeTheScanThatUsesThem) {
+  // Debian's stb decodes with whatever table a component names, defined or not, from an
+  // uninitialised allocation: a file without its DQT decoded heap garbage (the fuzzer's
+  // UBSan overflow that only showed after other inputs; fuzz/regressions/image/jpeg-no-dqt-*).
+  const Bytes whole = small_jpeg(path("a.jpg"));
+  const size_t dqt = find(whole, "\xff\xdb\x00\x84");
+  ASSERT_EQ(whole[dqt + 4], 0x00);
+  ASSERT_EQ(whole[dqt + 4 + 65], 0x01);  // stb writes tables 0 and 1 in one segment
+  Bytes quant = whole;
+  quant[dqt + 4 + 65] = 0x02;  // table 1 becomes table 2: the chroma components lack theirs
+  EXPECT_MESSAGE(decode_error(quant, "dqt.jpg"), "dqt.jpg",
+                 "component 2 uses quantization table 1, which no DQT segment");
+  Bytes no_dqt = whole;
+  no_dqt.erase(no_dqt.begin() + static_cast<std::ptrdiff_t>(dqt),
+               no_dqt.begin() + static_cast<std::ptrdiff_t>(dqt + 2 + 0x84));
+  EXPECT_MESSAGE(decode_error(no_dqt, "nodqt.jpg"), "nodqt.jpg", "quantization table 0");
+
+  const size_t sos = find(whole, "\xff\xda\x00\x0c\x03");
+  ASSERT_EQ(whole[sos + 7], 0x02);
+  ASSERT_EQ(whole[sos + 8], 0x11);  // component 2: DC table 1, AC table 1
+  Bytes dc = whole;
+  dc[sos + 8] = 0x21;
+  EXPECT_MESSAGE(decode_error(dc, "dc.jpg"), "dc.jpg", "uses DC Huffman table 2");
+  Bytes ac = whole;
+  ac[sos + 8] = 0x12;
+  EXPECT_MESSAGE(decode_error(ac, "ac.jpg"), "ac.jpg", "uses AC Huffman table 2");
+  Bytes component = whole;
+  component[sos + 7] = 0x09;
+  EXPECT_MESSAGE(decode_error(component, "comp.jpg"), "comp.jpg",
+                 "names component 9, which the frame does not have");
+  EXPECT_EQ(decode_image(whole, "whole.jpg").width(), 16);
+}
+
 TEST_F(ImageErrors, JpegCodingOtherThanHuffmanIsRefused) {
   Bytes b = small_jpeg(path("a.jpg"));
   b[find(b, "\xff\xc0\x00\x11\x08") + 1] = 0xc9;  // arithmetic coding

@@ -1,6 +1,7 @@
 #include "illum/core/image_checks.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <string_view>
@@ -186,7 +187,8 @@ PngInfo check_png(std::span<const uint8_t> bytes, const std::string& name) {
 // A DHT segment holds tables of 1 + 16 + n bytes, n the sum of the 16 code-length counts.
 // Debian's stb copies the n symbols into a 256-entry array and fills a 257-entry code-size
 // list without checking n (stb_image.h stbi__build_huffman), so n > 256 writes past both.
-void check_jpeg_huffman_tables(Cursor& c, size_t segment_end) {
+// `defined` gains bit (class·4 + id) for each table.
+void check_jpeg_huffman_tables(Cursor& c, size_t segment_end, unsigned& defined) {
   while (c.pos() < segment_end) {
     const size_t at = c.pos();
     if (segment_end - at < 17)
@@ -204,6 +206,76 @@ void check_jpeg_huffman_tables(Cursor& c, size_t segment_end) {
     if (symbols > segment_end - c.pos())
       c.fail(fmt::format("malformed JPEG: Huffman table at offset {} runs past its segment", at));
     c.skip(symbols, "a Huffman table");
+    defined |= 1u << ((cls_id >> 4) * 4 + (cls_id & 15));
+  }
+}
+
+// A DQT segment holds tables of 1 + 64 or 1 + 128 bytes (8- or 16-bit entries); `defined`
+// gains bit id for each.
+void check_jpeg_quantization_tables(Cursor& c, size_t segment_end, unsigned& defined) {
+  while (c.pos() < segment_end) {
+    const size_t at = c.pos();
+    const uint8_t precision_id = c.u8("a quantization table");
+    if ((precision_id >> 4) > 1 || (precision_id & 15) > 3)
+      c.fail(
+          fmt::format("malformed JPEG: quantization table at offset {} has precision {} and id {}",
+                      at, precision_id >> 4, precision_id & 15));
+    const size_t entries = (precision_id >> 4) ? 128 : 64;
+    if (entries > segment_end - c.pos())
+      c.fail(
+          fmt::format("malformed JPEG: quantization table at offset {} runs past its segment", at));
+    c.skip(entries, "a quantization table");
+    defined |= 1u << (precision_id & 15);
+  }
+}
+
+// Debian's stb keeps its quantization and Huffman tables in an uninitialised allocation and
+// decodes with whichever a component names, defined or not: a file that never defines them
+// decodes heap garbage (found by the fuzzer: a UBSan overflow that depended on the inputs
+// before it). So every table a scan uses must have been defined before the scan.
+void check_jpeg_scan_tables(Cursor& c, size_t segment_end, bool progressive,
+                            const std::array<int, 256>& frame_table_of, unsigned quantization,
+                            unsigned huffman) {
+  const size_t at = c.pos() - 4;
+  if (segment_end - c.pos() < 1)
+    c.fail(fmt::format("malformed JPEG: scan header at offset {} is empty", at));
+  const int count = c.u8("a scan header");
+  if (count < 1 || count > 4 || segment_end - c.pos() != 2u * count + 3)
+    c.fail(fmt::format("malformed JPEG: scan header at offset {} has {} components in {} bytes", at,
+                       count, segment_end - at - 4));
+  std::array<uint8_t, 4> ids{}, tables{};
+  for (int i = 0; i < count; ++i) {
+    ids[i] = c.u8("a scan header");
+    tables[i] = c.u8("a scan header");
+  }
+  const int spectral_start = c.u8("a scan header");
+  c.skip(1, "");
+  const int approximation_high = c.u8("a scan header") >> 4;
+  for (int i = 0; i < count; ++i) {
+    const int quant = frame_table_of[ids[i]];
+    if (quant < 0)
+      c.fail(
+          fmt::format("malformed JPEG: the scan at offset {} names component {}, which the "
+                      "frame does not have",
+                      at, ids[i]));
+    if (!(quantization & (1u << quant)))
+      c.fail(
+          fmt::format("malformed JPEG: component {} uses quantization table {}, which no DQT "
+                      "segment before the scan at offset {} defines",
+                      ids[i], quant, at));
+    const bool uses_dc = !progressive || (spectral_start == 0 && approximation_high == 0);
+    const bool uses_ac = !progressive || spectral_start > 0;
+    const int dc = tables[i] >> 4, ac = tables[i] & 15;
+    if (uses_dc && (dc > 3 || !(huffman & (1u << dc))))
+      c.fail(
+          fmt::format("malformed JPEG: the scan at offset {} uses DC Huffman table {}, which no "
+                      "DHT segment before it defines",
+                      at, dc));
+    if (uses_ac && (ac > 3 || !(huffman & (1u << (4 + ac)))))
+      c.fail(
+          fmt::format("malformed JPEG: the scan at offset {} uses AC Huffman table {}, which no "
+                      "DHT segment before it defines",
+                      at, ac));
   }
 }
 
@@ -211,7 +283,10 @@ JpegInfo check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
   Cursor c(bytes, name);
   c.skip(2, "the start-of-image marker");
   JpegInfo info;
-  bool have_frame = false;
+  bool have_frame = false, progressive = false;
+  unsigned quantization_tables = 0, huffman_tables = 0;  // bit sets of the defined ids
+  std::array<int, 256> table_of_component;               // the frame's Tq per component id
+  table_of_component.fill(-1);
   uint64_t entropy_bytes = 0;
   for (;;) {
     // Like stb, skip anything between segments up to the next 0xFF, then fill bytes.
@@ -242,12 +317,31 @@ JpegInfo check_jpeg(std::span<const uint8_t> bytes, const std::string& name) {
       info.height = c.u16be("the frame header");
       info.width = c.u16be("the frame header");
       check_dimensions(c, info.width, info.height);
+      const int components = c.u8("the frame header");
+      if (components < 1 || length != 8 + 3 * components)
+        c.fail(fmt::format("malformed JPEG: frame header of {} bytes for {} components", length,
+                           components));
+      for (int i = 0; i < components; ++i) {
+        const uint8_t id = c.u8("the frame header");
+        c.skip(1, "");  // sampling factors
+        const uint8_t table = c.u8("the frame header");
+        if (table > 3)
+          c.fail(
+              fmt::format("malformed JPEG: component {} names quantization table {}", id, table));
+        table_of_component[id] = table;
+      }
       have_frame = true;
+      progressive = marker == 0xc2;
     }
-    if (marker == 0xc4) check_jpeg_huffman_tables(c, segment_end);
+    if (marker == 0xc4) check_jpeg_huffman_tables(c, segment_end, huffman_tables);
+    if (marker == 0xdb) check_jpeg_quantization_tables(c, segment_end, quantization_tables);
+    if (marker == 0xda) {
+      if (!have_frame) c.fail("malformed JPEG: a scan before the frame header");
+      check_jpeg_scan_tables(c, segment_end, progressive, table_of_component, quantization_tables,
+                             huffman_tables);
+    }
     c.seek(segment_end);
     if (marker != 0xda) continue;  // SOS: the entropy-coded data follows its header
-    if (!have_frame) c.fail("malformed JPEG: a scan before the frame header");
     if (++info.scans > kMaxJpegScans)
       c.fail(fmt::format("JPEG has more than {} scans (decoding time grows with scans × pixels)",
                          kMaxJpegScans));
