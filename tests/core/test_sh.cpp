@@ -11,8 +11,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <random>
+#include <regex>
 #include <sstream>
 
 #include "illum/core/error.h"
@@ -453,12 +455,49 @@ TEST(Sh, MonteCarloProjectionWithinItsStandardError) {
   }
 }
 
+// A constant has a zero-variance band-0 estimate (4π·f·Y00 in every sample), so the
+// Monte-Carlo projection must give it exactly, and a standard error of 0: any error in the
+// pdf shows at once, however small.
+TEST(Sh, MonteCarloProjectionOfAConstantIsExactInBandZero) {
+  const MonteCarloProjection mc = project_monte_carlo(
+      3, [](const glm::dvec3&) { return 1.5; }, 1000, 99);
+  EXPECT_NEAR(mc.coefficients[0], 1.5 * std::sqrt(4.0 * kPi), kExact);
+  EXPECT_NEAR(mc.standard_errors[0], 0.0, kExact);
+}
+
 TEST(Sh, BandCountsOutOfRangeThrow) {
   EXPECT_THROW(evaluate(0, glm::dvec3(0, 0, 1)), Error);
   EXPECT_THROW(evaluate(kMaxBands + 1, glm::dvec3(0, 0, 1)), Error);
   EXPECT_THROW(clamped_cosine_factors(0), Error);
   EXPECT_THROW(ShRotation(kMaxBands + 1, glm::dmat3(1.0)), Error);
   EXPECT_NO_THROW(evaluate(kMaxBands, glm::dvec3(0, 0, 1)));
+}
+
+// shaders/sh.glsl's constants, as written, are core/sh.h's to double precision: a digit
+// wrong beyond float resolution is invisible to ShGlsl.EveryFunctionMatchesCoreSh (which
+// compares evaluations in float), so the text is compared here.
+TEST(Sh, GlslConstantsAreTheCoreConstants) {
+  std::ifstream in(std::filesystem::path(ILLUM_SOURCE_DIR) / "shaders" / "sh.glsl");
+  ASSERT_TRUE(in) << "shaders/sh.glsl";
+  const std::vector<double> cosine = clamped_cosine_factors(3);
+  const std::map<std::string, double> expected = {
+      {"kShY00", kY00},          {"kShY1", kY1},
+      {"kShY2xy", kY2xy},        {"kShY20", kY20},
+      {"kShY22", kY22},          {"kShCosine0", cosine[0]},
+      {"kShCosine1", cosine[1]}, {"kShCosine2", cosine[2]},
+      {"kShInvPi", 1.0 / kPi}};
+  std::map<std::string, double> found;
+  const std::regex constant(R"(const\s+float\s+(\w+)\s*=\s*([-+0-9.eE]+)\s*;)");
+  std::string line;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (std::regex_search(line, m, constant)) found[m[1].str()] = std::stod(m[2].str());
+  }
+  EXPECT_EQ(found.size(), expected.size()) << "sh.glsl declares other constants than expected";
+  for (const auto& [name, value] : expected) {
+    ASSERT_TRUE(found.count(name)) << name << " missing from sh.glsl";
+    EXPECT_NEAR(found[name], value, 1e-15 * std::abs(value)) << name;
+  }
 }
 
 // Every SH constant lives in core/sh.h and shaders/sh.glsl: no other source file spells
