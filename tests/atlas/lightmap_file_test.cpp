@@ -14,6 +14,8 @@
 
 #include "illum/atlas/lightmap_file.h"
 #include "illum/core/error.h"
+#include "illum/scene/geometry_hash.h"
+#include "illum/scene/load.h"
 
 namespace illum::atlas {
 namespace {
@@ -159,6 +161,49 @@ TEST_F(LightmapFolder, AtlasFileIsChecked) {
       << std::string("\x00\0\0\0\x00\0\0\x80\0\0\0\0\0\0\0\0", 16);
   const std::string m = error();
   EXPECT_TRUE(contains(m, (folder() / "atlas.bin").string()) && contains(m, "truncated")) << m;
+}
+
+// apply_lightmap_set checks the recorded scene hash against the scene with the atlas
+// applied; a refused set (no hash, another hash) leaves the scene exactly as it was.
+TEST(LightmapSetApply, RefusedSetsLeaveTheSceneUnchanged) {
+  const Scene loaded = load_scene(ILLUM_DATA_DIR "/scenes/cornell/cornell.illum.json");
+  Scene baked = loaded;
+  make_meshes_unique(baked);
+  AtlasOptions options;
+  options.resolution = 64;
+  LightmapSet set;
+  set.atlas = build_atlas(baked, options);
+  apply_atlas(baked, set.atlas);
+  set.scene = "cornell";
+  set.scene_triangles = baked.triangle_count();
+  set.folder = "lm";
+  const auto same_geometry = [&](const Scene& s) {
+    ASSERT_EQ(s.meshes.size(), loaded.meshes.size());
+    ASSERT_EQ(s.instances.size(), loaded.instances.size());
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+      EXPECT_EQ(s.meshes[i].positions, loaded.meshes[i].positions) << i;
+      EXPECT_EQ(s.meshes[i].uv1, loaded.meshes[i].uv1) << i;
+    }
+    for (size_t i = 0; i < s.instances.size(); ++i)
+      EXPECT_EQ(s.instances[i].mesh, loaded.instances[i].mesh) << i;
+  };
+  for (const std::string& hash : {std::string(), std::string("0123456789abcdef")}) {
+    SCOPED_TRACE("hash '" + hash + "'");
+    set.scene_hash = hash;
+    Scene shown = loaded;
+    try {
+      apply_lightmap_set(shown, set);
+      ADD_FAILURE() << "applied";
+    } catch (const Error& e) {
+      EXPECT_TRUE(contains(e.what(), "lm: ")) << e.what();
+      EXPECT_TRUE(contains(e.what(), "bake it again")) << e.what();
+    }
+    same_geometry(shown);
+  }
+  set.scene_hash = geometry_hash_hex(baked);
+  Scene shown = loaded;
+  apply_lightmap_set(shown, set);
+  EXPECT_EQ(geometry_hash(shown), geometry_hash(baked));
 }
 
 }  // namespace
