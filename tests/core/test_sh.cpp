@@ -17,6 +17,8 @@
 #include <regex>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "illum/core/error.h"
 #include "illum/core/sh.h"
 #include "illum/core/sh_rotation.h"
@@ -181,7 +183,7 @@ TEST(Sh, OrthonormalByQuadrature) {
         worst = std::max(worst, e);
         ASSERT_LT(e, kExact) << "bands " << bands << " <" << i << "," << j << ">";
       }
-    RecordProperty("worst_error_bands_" + std::to_string(bands), std::to_string(worst));
+    RecordProperty("worst_error_bands_" + std::to_string(bands), fmt::format("{:.2e}", worst));
   }
 }
 
@@ -410,9 +412,9 @@ TEST(Sh, WindowingReducesTheNegativeLobeOfAProjectedDelta) {
     for (int l = 1; l < bands; ++l) EXPECT_LT(sigma[l], sigma[l - 1]) << to_string(w) << l;
     const double windowed = negative_lobe_ratio(bands, sigma);
     EXPECT_LT(windowed, 0.5 * plain) << to_string(w);
-    RecordProperty(std::string("negative_lobe_") + to_string(w), std::to_string(windowed));
+    RecordProperty(std::string("negative_lobe_") + to_string(w), fmt::format("{:.4f}", windowed));
   }
-  RecordProperty("negative_lobe_none", std::to_string(plain));
+  RecordProperty("negative_lobe_none", fmt::format("{:.4f}", plain));
   // Known values: Hanning at l = w/2 is 1/2, Lanczos is 2/π there; nothing at l ≥ w.
   EXPECT_NEAR(window_factors(5, Window::kHanning, 4)[2], 0.5, 1e-15);
   EXPECT_NEAR(window_factors(5, Window::kLanczos, 4)[2], 2.0 / kPi, 1e-15);

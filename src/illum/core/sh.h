@@ -50,7 +50,7 @@ constexpr int index(int l, int m) {
 }
 // Throws Error naming `what` unless 1 ≤ bands ≤ kMaxBands (inline, so that the compiler
 // sees the range in the callers).
-inline void check_bands(int bands, const std::string& what) {
+inline void check_bands(int bands, const char* what) {
   if (bands < 1 || bands > kMaxBands)
     throw Error(fmt::format("{}: SH band count {} is out of range 1..{}", what, bands, kMaxBands));
 }
