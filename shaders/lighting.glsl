@@ -8,6 +8,7 @@
 #include "common.glsl"
 #include "shadows.glsl"
 #include "baked.glsl"
+#include "sh.glsl"
 
 struct Surface {
   vec3 p;
@@ -100,8 +101,8 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
 
 // Ambient: a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
 // scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
-// weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (basis
-// 0.282095, 0.488603·(y, z, x)) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
+// weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (sh.glsl,
+// the normal as the pole) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
 vec3 ambient_term(Surface s) {
   int cube = push.view_index < baked.info.z ? draw_cubes[push.view_index] : 0;
   if (cube > 0) {  // a probed (dynamic) object: ambient cube along the normal
@@ -133,7 +134,7 @@ vec3 ambient_term(Surface s) {
   vec3 c1 = texture(lightmap, vec3(s.uv1, 1.0)).rgb;  // y
   vec3 c2 = texture(lightmap, vec3(s.uv1, 2.0)).rgb;  // z
   vec3 c3 = texture(lightmap, vec3(s.uv1, 3.0)).rgb;  // x
-  vec3 e = 0.282095 * c0 + (2.0 / 3.0) * 0.488603 * (c1 * n.y + c2 * n.z + c3 * n.x);
+  vec3 e = sh_irradiance_over_pi_l1(c0, c1, c2, c3, n);
   return s.albedo * k * max(e, 0.0);
 }
 

@@ -14,6 +14,7 @@
 #include "illum/bake/lightmap_baker.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
+#include "illum/scene/geometry_hash.h"
 #include "illum/scene/load.h"
 #include "option_checks.h"
 
@@ -89,6 +90,7 @@ void run_bake(const BakeArgs& args) {
   set.layers = std::move(baked.layers);
   set.scene = scene.name;
   set.scene_triangles = scene_triangles;
+  set.scene_hash = geometry_hash_hex(scene);  // with the atlas applied, as the readers check it
   const double occupancy =
       double(raster.covered()) / (double(set.atlas.width) * double(set.atlas.height));
   set.bake = {{"spp", bake_options.spp},

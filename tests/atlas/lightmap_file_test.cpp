@@ -14,6 +14,8 @@
 
 #include "illum/atlas/lightmap_file.h"
 #include "illum/core/error.h"
+#include "illum/scene/geometry_hash.h"
+#include "illum/scene/load.h"
 
 namespace illum::atlas {
 namespace {
@@ -94,6 +96,9 @@ TEST_F(LightmapFolder, ManifestTypesAndValuesAreChecked) {
       {"content", nullptr, "'content' must be a string"},
       {"scene_triangles", -1, "'scene_triangles' must be an integer"},
       {"scene_triangles", 1e300, "'scene_triangles' must be an integer"},
+      {"scene_hash", 7, "'scene_hash' must be a string"},
+      {"scene_hash", "0123456789ABCDEF", "'scene_hash' must be 16 lowercase hex digits"},
+      {"scene_hash", "0123456789abcde", "'scene_hash' must be 16 lowercase hex digits"},
       {"layers", "layer0.exr", "'layers' must be a list"},
       {"layers", {"layer0.exr", "layer0.exr"}, "needs 1 layers, the manifest lists 2"},
       {"layers", {"../lm/layer0.exr"}, "must be a file in the folder"},
@@ -156,6 +161,49 @@ TEST_F(LightmapFolder, AtlasFileIsChecked) {
       << std::string("\x00\0\0\0\x00\0\0\x80\0\0\0\0\0\0\0\0", 16);
   const std::string m = error();
   EXPECT_TRUE(contains(m, (folder() / "atlas.bin").string()) && contains(m, "truncated")) << m;
+}
+
+// apply_lightmap_set checks the recorded scene hash against the scene with the atlas
+// applied; a refused set (no hash, another hash) leaves the scene exactly as it was.
+TEST(LightmapSetApply, RefusedSetsLeaveTheSceneUnchanged) {
+  const Scene loaded = load_scene(ILLUM_DATA_DIR "/scenes/cornell/cornell.illum.json");
+  Scene baked = loaded;
+  make_meshes_unique(baked);
+  AtlasOptions options;
+  options.resolution = 64;
+  LightmapSet set;
+  set.atlas = build_atlas(baked, options);
+  apply_atlas(baked, set.atlas);
+  set.scene = "cornell";
+  set.scene_triangles = baked.triangle_count();
+  set.folder = "lm";
+  const auto same_geometry = [&](const Scene& s) {
+    ASSERT_EQ(s.meshes.size(), loaded.meshes.size());
+    ASSERT_EQ(s.instances.size(), loaded.instances.size());
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+      EXPECT_EQ(s.meshes[i].positions, loaded.meshes[i].positions) << i;
+      EXPECT_EQ(s.meshes[i].uv1, loaded.meshes[i].uv1) << i;
+    }
+    for (size_t i = 0; i < s.instances.size(); ++i)
+      EXPECT_EQ(s.instances[i].mesh, loaded.instances[i].mesh) << i;
+  };
+  for (const std::string& hash : {std::string(), std::string("0123456789abcdef")}) {
+    SCOPED_TRACE("hash '" + hash + "'");
+    set.scene_hash = hash;
+    Scene shown = loaded;
+    try {
+      apply_lightmap_set(shown, set);
+      ADD_FAILURE() << "applied";
+    } catch (const Error& e) {
+      EXPECT_TRUE(contains(e.what(), "lm: ")) << e.what();
+      EXPECT_TRUE(contains(e.what(), "bake it again")) << e.what();
+    }
+    same_geometry(shown);
+  }
+  set.scene_hash = geometry_hash_hex(baked);
+  Scene shown = loaded;
+  apply_lightmap_set(shown, set);
+  EXPECT_EQ(geometry_hash(shown), geometry_hash(baked));
 }
 
 }  // namespace

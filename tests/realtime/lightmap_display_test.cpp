@@ -19,6 +19,7 @@
 #include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/render/integrator.h"
+#include "illum/scene/geometry_hash.h"
 #include "illum/scene/load.h"
 #include "test_scene.h"
 
@@ -130,6 +131,7 @@ TEST(LightmapDisplay, CornellLightmapFrameMatchesPathTracer) {
   set.layers = std::move(baked.layers);
   set.scene = baked_scene.name;
   set.scene_triangles = baked_scene.triangle_count();
+  set.scene_hash = geometry_hash_hex(baked_scene);
 
   // Through the folder format, as `illum bake` and `illum frame --lightmap` do.
   TempFolder folder;

@@ -10,6 +10,7 @@
 #include "illum/core/error.h"
 #include "illum/core/json_input.h"
 #include "illum/core/tonemap.h"
+#include "illum/scene/geometry_hash.h"
 
 namespace illum::atlas {
 
@@ -102,19 +103,20 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
     }
     write_image((staging / "preview.png").string(), preview_of(set.layers[0]));
     save_atlas(set.atlas, staging / kAtlasFile);
-    const nlohmann::json manifest = {{"format", "illum-lightmap"},
-                                     {"version", kVersion},
-                                     {"basis", set.basis},
-                                     {"content", set.content},
-                                     {"width", set.atlas.width},
-                                     {"height", set.atlas.height},
-                                     {"layers", layers},
-                                     {"atlas", kAtlasFile},
-                                     {"texel_size", set.atlas.texel_size},
-                                     {"charts", set.atlas.chart_count},
-                                     {"scene", set.scene},
-                                     {"scene_triangles", set.scene_triangles},
-                                     {"bake", set.bake}};
+    nlohmann::json manifest = {{"format", "illum-lightmap"},
+                               {"version", kVersion},
+                               {"basis", set.basis},
+                               {"content", set.content},
+                               {"width", set.atlas.width},
+                               {"height", set.atlas.height},
+                               {"layers", layers},
+                               {"atlas", kAtlasFile},
+                               {"texel_size", set.atlas.texel_size},
+                               {"charts", set.atlas.chart_count},
+                               {"scene", set.scene},
+                               {"scene_triangles", set.scene_triangles},
+                               {"bake", set.bake}};
+    if (!set.scene_hash.empty()) manifest["scene_hash"] = set.scene_hash;
     {
       std::ofstream file(staging / kManifest);
       file << manifest.dump(2) << "\n";
@@ -195,6 +197,7 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
   // (core/json_input.h): the manifest's "bake" object is copied, which recurses.
   const Manifest manifest(read_json_file(manifest_where), manifest_where);
   LightmapSet set;
+  set.folder = where;
   if (manifest.string("format") != "illum-lightmap" ||
       manifest.unsigned_integer("version", 1u << 30) != kVersion)
     manifest.fail(fmt::format("not an illum-lightmap version {} manifest", kVersion));
@@ -207,6 +210,14 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
     manifest.fail(fmt::format("unknown content '{}' (all or indirect)", set.content));
   if (manifest.json().contains("scene")) set.scene = manifest.string("scene");
   set.scene_triangles = manifest.unsigned_integer("scene_triangles", uint64_t{1} << 40);
+  // Optional here so that an old folder loads and apply_lightmap_set can say what to do.
+  if (manifest.json().contains("scene_hash")) {
+    set.scene_hash = manifest.string("scene_hash");
+    if (set.scene_hash.size() != 16 ||
+        set.scene_hash.find_first_not_of("0123456789abcdef") != std::string::npos)
+      manifest.fail(fmt::format("'scene_hash' must be 16 lowercase hex digits, not '{}'",
+                                set.scene_hash.substr(0, 40)));
+  }
   if (manifest.json().contains("bake")) set.bake = manifest.at("bake");
   const nlohmann::json& layers = manifest.at("layers");
   if (!layers.is_array()) manifest.fail("'layers' must be a list of file names");
@@ -238,12 +249,34 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
 }
 
 void apply_lightmap_set(Scene& scene, const LightmapSet& set) {
+  const std::string where = set.folder.empty() ? "light-map set" : set.folder;
   if (scene.triangle_count() != set.scene_triangles)
-    throw Error(
-        fmt::format("light-map set for '{}' ({} triangles) does not fit scene '{}' ({} triangles)",
-                    set.scene, set.scene_triangles, scene.name, scene.triangle_count()));
-  make_meshes_unique(scene);
-  apply_atlas(scene, set.atlas);
+    throw Error(fmt::format(
+        "{}: baked for '{}' ({} triangles), which does not fit scene '{}' ({} triangles)", where,
+        set.scene, set.scene_triangles, scene.name, scene.triangle_count()));
+  if (set.scene_hash.empty())
+    throw Error(fmt::format(
+        "{}: records no scene hash (baked by an earlier illum), so it cannot be checked "
+        "against scene '{}'; bake it again",
+        where, scene.name));
+  // A refused set leaves the caller's scene as it was: the atlas changes only meshes and
+  // instances, so those are kept (not the textures: a copy of the whole scene could be large).
+  std::vector<Mesh> meshes = scene.meshes;
+  std::vector<Instance> instances = scene.instances;
+  try {
+    make_meshes_unique(scene);
+    apply_atlas(scene, set.atlas);
+    const std::string hash = geometry_hash_hex(scene);
+    if (hash != set.scene_hash)
+      throw Error(fmt::format(
+          "{}: baked for another scene than '{}' (scene hash {} recorded, {} here: other "
+          "positions, normals, transforms or atlas); bake it again for this scene",
+          where, scene.name, set.scene_hash, hash));
+  } catch (...) {
+    scene.meshes = std::move(meshes);
+    scene.instances = std::move(instances);
+    throw;
+  }
 }
 
 }  // namespace illum::atlas

@@ -1,8 +1,10 @@
 // The folder `illum bake` writes and the real-time renderer reads: a baked light-map set.
 //   lightmap.json   manifest: format "illum-lightmap" version 1, basis (plain|rnm|sh),
 //                   content (all|indirect), size, layer file names, atlas file, texel
-//                   size, chart count, scene name and triangle count, and the bake's own
-//                   numbers (spp, seconds, rays, ...) under "bake"
+//                   size, chart count, scene name and triangle count, scene_hash (the
+//                   geometry_hash of the scene with the atlas applied, 16 hex digits:
+//                   scene/geometry_hash.h), and the bake's own numbers (spp, seconds,
+//                   rays, ...) under "bake"
 //   atlas.bin       the atlas (atlas.h: save_atlas), needed to put uv1 on the scene again
 //   layer0.exr ...  linear RGB layers (half floats), meaning per basis as in
 //                   bake/lightmap_baker.h
@@ -30,6 +32,10 @@ struct LightmapSet {
   std::vector<Image> layers;    // 1 (plain), 3 (rnm) or 4 (sh), all atlas-sized RGB
   std::string scene;            // the scene's name, for the record and for messages
   size_t scene_triangles = 0;   // checked on load against the scene it is applied to
+  // geometry_hash_hex of the baked scene after make_meshes_unique + apply_atlas; empty in a
+  // folder written before scene hashes were recorded (then refused by apply_lightmap_set).
+  std::string scene_hash;
+  std::string folder;  // where load_lightmap_set read it from, for messages (empty: in memory)
   nlohmann::json bake = nlohmann::json::object();  // free-form numbers of the bake
 };
 
@@ -47,7 +53,9 @@ void save_lightmap_set(const std::filesystem::path& folder, const LightmapSet& s
 LightmapSet load_lightmap_set(const std::filesystem::path& folder);
 
 // Puts the set's atlas on `scene` (make_meshes_unique + apply_atlas) after checking that the
-// set was baked for a scene with the same triangle count.
+// set was baked for this scene: the same triangle count, then the same geometry_hash once
+// the atlas is applied. Throws Error (one line naming the folder, saying to bake again) and
+// leaves `scene` unchanged when the set was baked for another scene or records no hash.
 void apply_lightmap_set(Scene& scene, const LightmapSet& set);
 
 }  // namespace illum::atlas

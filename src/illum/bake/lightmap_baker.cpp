@@ -13,6 +13,7 @@
 #include "illum/core/rng.h"
 #include "illum/core/sampler.h"
 #include "illum/core/sampling.h"
+#include "illum/core/sh.h"
 #include "illum/render/light_sampler.h"
 #include "illum/render/path_radiance.h"
 
@@ -35,9 +36,6 @@ constexpr int kRrDepth = 3;
 constexpr float kRnmBasis[3][3] = {{0.816496581f, 0.0f, 0.577350269f},
                                    {-0.408248290f, 0.707106781f, 0.577350269f},
                                    {-0.408248290f, -0.707106781f, 0.577350269f}};
-// Real SH bands 0 and 1 (the shaders' constants, lighting.glsl).
-constexpr float kShY0 = 0.282094792f;
-constexpr float kShY1 = 0.488602512f;
 
 // The texel's surface point as the first vertex of the paths: a Lambertian vertex whose
 // "BSDF × cosine" is the basis function of each layer. Directions are sampled by cosine
@@ -90,10 +88,9 @@ struct TexelVertex {
         return;
       }
       case LightmapBasis::kShL1: {
-        out[0] = kShY0;
-        out[1] = kShY1 * glm::dot(w, b);  // y
-        out[2] = kShY1 * glm::dot(w, n);  // z
-        out[3] = kShY1 * glm::dot(w, t);  // x
+        // Tangent space: x = t, y = b, z = n (the SH pole is the normal, core/sh.h).
+        const vec4 y = sh::evaluate_l1(vec3(glm::dot(w, t), glm::dot(w, b), glm::dot(w, n)));
+        for (int i = 0; i < 4; ++i) out[i] = y[i];
         return;
       }
     }

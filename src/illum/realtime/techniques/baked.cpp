@@ -2,6 +2,7 @@
 // SH-L1) at uv1, ambient-cube probes per draw, and SH-L1 PRT per vertex relit by the
 // lights' SH each frame. The data stays with the renderer (Renderer::set_lightmap, ...);
 // switching the add-on on uploads it into this technique's own set.
+#include "illum/core/sh.h"
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/realtime_lights.h"
 #include "illum/realtime/technique_context.h"
@@ -131,7 +132,7 @@ class Baked final : public Technique {
         } else {
           continue;
         }
-        const float y[4] = {0.282095f, 0.488603f * w.y, 0.488603f * w.z, 0.488603f * w.x};
+        const vec4 y = sh::evaluate_l1(w);  // world space: the SH pole is world +z
         for (int k = 0; k < 4; ++k) u.prt_light[k] += vec4(radiance * y[k], 0.0f);
       }
     }
