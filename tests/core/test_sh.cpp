@@ -129,7 +129,9 @@ TEST(Sh, BandOneIsAPermutationOfTheDirection) {
     EXPECT_NEAR(y[2], kY1 * w.z, 1e-15);
     EXPECT_NEAR(y[3], kY1 * w.x, 1e-15);
     const glm::dvec4 l1 = evaluate_l1(w);
-    for (int i = 0; i < 4; ++i) EXPECT_NEAR(l1[i], y[i], 1e-16);
+    // A few ulp: the closed form and the recurrence round differently, and clang contracts
+    // a·b + c into fma where gcc does not (the asan build differed by 1 ulp).
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(l1[i], y[i], 4e-16);
   }
 }
 
