@@ -18,6 +18,7 @@
 #include "illum/gpu/buffer.h"
 #include "illum/gpu/descriptors.h"
 #include "illum/gpu/pipeline.h"
+#include "illum/realtime/baked_data.h"
 #include "illum/realtime/renderer.h"
 #include "illum/render/integrator.h"
 #include "illum/scene/load.h"
@@ -250,11 +251,17 @@ TEST_F(SsaoTest, MatchesTheOfflineAoEstimandOnTheCornellBox) {
   }
 }
 
-Image frame(const Scene& scene, const std::string& pipeline, bool ssao, Color ambient,
+struct FrameSetup {
+  std::string pipeline, shadows;
+  bool lightmap = false;  // a constant plain light-map in place of the constant ambient
+};
+
+Image frame(const Scene& scene, const FrameSetup& setup, bool ssao, Color ambient,
             const std::string& output = "frame") {
   RenderSettings o;
   o.width = o.height = 64;
-  o.pipeline = pipeline;
+  o.pipeline = setup.pipeline;
+  o.shadows = setup.shadows;
   o.set("lighting.ambient", ambient);
   o.set("map.resolution", 256);
   if (ssao) {
@@ -263,26 +270,33 @@ Image frame(const Scene& scene, const std::string& pipeline, bool ssao, Color am
     o.set("ssao.radius", kRadius);
   }
   Renderer r(context(), scene, o);
+  if (setup.lightmap && ambient.r > 0.0f)
+    r.set_lightmap({LightmapKind::kPlain, {Image(4, 4, 3, ambient.r)}});
   r.render(*scene.camera);
   return r.hdr();
 }
 
 TEST_F(SsaoTest, NeverDarkensDirectLightAndScalesExactlyTheIndirectTerm) {
   const Scene scene = load_scene("cornell");
-  for (const std::string pipeline : {"forward", "deferred"}) {
+  for (const FrameSetup& setup :
+       {FrameSetup{"forward", "map"}, FrameSetup{"deferred", "map"},
+        FrameSetup{"forward", "volume"}, FrameSetup{"deferred", "volume"},
+        FrameSetup{"forward", "map", true}, FrameSetup{"deferred", "map", true}}) {
+    const std::string name =
+        setup.pipeline + "/" + setup.shadows + (setup.lightmap ? "/light-map" : "");
     // Direct light only (no ambient): identical bytes with SSAO on and off.
-    const Image direct = frame(scene, pipeline, false, Color(0.0f));
-    const Image direct_ssao = frame(scene, pipeline, true, Color(0.0f));
+    const Image direct = frame(scene, setup, false, Color(0.0f));
+    const Image direct_ssao = frame(scene, setup, true, Color(0.0f));
     ASSERT_EQ(direct.data().size(), direct_ssao.data().size());
     EXPECT_EQ(std::memcmp(direct.data().data(), direct_ssao.data().data(),
                           direct.data().size() * sizeof(float)),
               0)
-        << pipeline << ": SSAO changed a frame without indirect light";
-    // With an ambient term: frame = direct + a·(ambient part), a the AO buffer.
+        << name << ": SSAO changed a frame without indirect light";
+    // With an indirect term: frame = direct + a·(indirect part), a the AO buffer.
     const Color ambient(0.4f, 0.35f, 0.3f);
-    const Image off = frame(scene, pipeline, false, ambient);
-    const Image on = frame(scene, pipeline, true, ambient);
-    const Image a = frame(scene, pipeline, true, ambient, "ao");
+    const Image off = frame(scene, setup, false, ambient);
+    const Image on = frame(scene, setup, true, ambient);
+    const Image a = frame(scene, setup, true, ambient, "ao");
     int darkened = 0;
     for (int y = 0; y < off.height(); ++y)
       for (int x = 0; x < off.width(); ++x)
@@ -291,10 +305,10 @@ TEST_F(SsaoTest, NeverDarkensDirectLightAndScalesExactlyTheIndirectTerm) {
           const double expected = d + a.pixel(x, y)[0] * (full - d);
           // fp16 targets: each of the three images is rounded to 2^-11 relative, the AO too.
           const double tol = 4.0 * std::ldexp(1.0, -11) * std::abs(full);
-          EXPECT_NEAR(on.pixel(x, y)[c], expected, tol) << pipeline << " " << x << "," << y;
+          EXPECT_NEAR(on.pixel(x, y)[c], expected, tol) << name << " " << x << "," << y;
           if (on.pixel(x, y)[c] < full - 0.05 * (full - d)) ++darkened;
         }
-    EXPECT_GT(darkened, 100) << pipeline << ": SSAO darkened nothing";
+    EXPECT_GT(darkened, 100) << name << ": SSAO darkened nothing";
   }
 }
 
