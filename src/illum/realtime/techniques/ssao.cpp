@@ -9,8 +9,6 @@
 // (shaders/ssao_apply.frag) — the pipelines' own shaders stay untouched and direct light is
 // never scaled. With -p ssao.output=ao, "ssao.show" writes the AO buffer into the HDR
 // target instead.
-#include <algorithm>
-
 #include "illum/gpu/pipeline.h"
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
