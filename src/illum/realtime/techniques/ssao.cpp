@@ -236,7 +236,7 @@ TechniqueDecl ssao_technique() {
       float_param("radius", 0.0f, 0.0f, 1e9f,
                   "occluder search distance R in scene units (0: 2% of the scene's "
                   "bounding-box diagonal)")
-          .slider(UiHint::kLinear, 0, 200),
+          .slider(UiHint::kLinear, 0, 10),
       float_param("bias", 0.1f, 0.0f, 0.99f,
                   "subtracted from N·ω: directions closer than acos(bias) to the tangent plane "
                   "do not occlude")
@@ -246,7 +246,7 @@ TechniqueDecl ssao_technique() {
           .slider(UiHint::kLinear, 0, 4),
       float_param("falloff", 0.0f, 0.0f, 1e9f,
                   "distance unit s of the falloff 1/(1 + (t/s)²) in scene units (0: s = R)")
-          .slider(UiHint::kLinear, 0, 200),
+          .slider(UiHint::kLinear, 0, 10),
       int_param("samples", 16, 1, 256, "hemisphere directions per pixel")
           .slider(UiHint::kLinear, 1, 64),
       int_param("blur", 2, 0, 8, "depth-aware blur radius in pixels (0: none)"),
