@@ -253,7 +253,8 @@ TEST_F(SsaoTest, MatchesTheOfflineAoEstimandOnTheCornellBox) {
 
 struct FrameSetup {
   std::string pipeline, shadows;
-  bool lightmap = false;  // a constant plain light-map in place of the constant ambient
+  bool lightmap = false;    // a constant plain light-map in place of the constant ambient
+  bool duplicates = false;  // every surface drawn twice, coplanar (as in Sibenik)
 };
 
 Image frame(const Scene& scene, const FrameSetup& setup, bool ssao, Color ambient,
@@ -269,7 +270,12 @@ Image frame(const Scene& scene, const FrameSetup& setup, bool ssao, Color ambien
     o.set("ssao.output", output);
     o.set("ssao.radius", kRadius);
   }
-  Renderer r(context(), scene, o);
+  Scene drawn = scene;
+  if (setup.duplicates) {
+    const size_t n = drawn.instances.size();
+    for (size_t i = 0; i < n; ++i) drawn.instances.push_back(drawn.instances[i]);
+  }
+  Renderer r(context(), drawn, o);
   if (setup.lightmap && ambient.r > 0.0f)
     r.set_lightmap({LightmapKind::kPlain, {Image(4, 4, 3, ambient.r)}});
   r.render(*scene.camera);
@@ -281,9 +287,11 @@ TEST_F(SsaoTest, NeverDarkensDirectLightAndScalesExactlyTheIndirectTerm) {
   for (const FrameSetup& setup :
        {FrameSetup{"forward", "map"}, FrameSetup{"deferred", "map"},
         FrameSetup{"forward", "volume"}, FrameSetup{"deferred", "volume"},
-        FrameSetup{"forward", "map", true}, FrameSetup{"deferred", "map", true}}) {
-    const std::string name =
-        setup.pipeline + "/" + setup.shadows + (setup.lightmap ? "/light-map" : "");
+        FrameSetup{"forward", "map", true}, FrameSetup{"deferred", "map", true},
+        FrameSetup{"forward", "map", false, true}, FrameSetup{"deferred", "map", false, true}}) {
+    const std::string name = setup.pipeline + "/" + setup.shadows +
+                             (setup.lightmap ? "/light-map" : "") +
+                             (setup.duplicates ? "/duplicates" : "");
     // Direct light only (no ambient): identical bytes with SSAO on and off.
     const Image direct = frame(scene, setup, false, Color(0.0f));
     const Image direct_ssao = frame(scene, setup, true, Color(0.0f));
