@@ -11,8 +11,8 @@ const std::vector<TechniqueDecl>& technique_registry() {
   static const std::vector<TechniqueDecl> registry = {
       lighting_technique(),      forward_technique(),    deferred_technique(),
       no_shadows_technique(),    shadow_map_technique(), vsm_technique(),
-      shadow_volume_technique(), baked_technique(),      luminance_technique(),
-      bloom_technique(),         tonemap_technique(),
+      shadow_volume_technique(), baked_technique(),      ssao_technique(),
+      luminance_technique(),     bloom_technique(),      tonemap_technique(),
   };
   return registry;
 }

@@ -16,6 +16,7 @@ TechniqueDecl shadow_map_technique();     // shadow_maps.cpp (PCF)
 TechniqueDecl vsm_technique();            // shadow_maps.cpp (variance shadow maps)
 TechniqueDecl shadow_volume_technique();  // shadow_volumes.cpp
 TechniqueDecl baked_technique();          // baked.cpp
+TechniqueDecl ssao_technique();           // ssao.cpp
 TechniqueDecl luminance_technique();      // luminance.cpp
 TechniqueDecl bloom_technique();          // bloom.cpp
 TechniqueDecl tonemap_technique();        // tonemap.cpp
