@@ -381,6 +381,40 @@ TEST(LightmapExtras, GlobalLinesAgainstPerTexelOnCornellAtEqualRays) {
       (long long)gl.rays, gl.seconds, std::sqrt(e_gl / double(reached)), reached);
 }
 
+TEST(LightmapExtras, ByteIdenticalForOneAndTwoThreads) {
+  Scene s = load_scene("cornell");
+  atlas::make_meshes_unique(s);
+  atlas::AtlasOptions ao_opts;
+  ao_opts.resolution = 32;
+  const atlas::Atlas a = atlas::build_atlas(s, ao_opts);
+  atlas::apply_atlas(s, a);
+  const RayTracer tracer(s);
+  const atlas::TexelRaster raster = atlas::rasterize_texels(s, a.width, a.height);
+  std::vector<Image> maps[2];
+  for (int threads : {1, 2}) {
+    LightmapExtrasOptions o = all_extras(16);
+    o.threads = threads;
+    o.dilate = 2;
+    const LightmapExtras e = bake::bake_lightmap_extras(s, tracer, raster, o);
+    bake::GlobalLineObscuranceOptions g;
+    g.directions = 8;
+    g.lines_per_direction = 50;
+    g.threads = threads;
+    const auto gl = bake::obscurance_global_lines(s, tracer, raster, g);
+    maps[threads - 1] = {e.ao,          e.obscurance,  e.obscurance_color,
+                         e.bent_normal, gl.obscurance, gl.count};
+  }
+  for (size_t m = 0; m < maps[0].size(); ++m) {
+    const Image &x = maps[0][m], &y = maps[1][m];
+    ASSERT_EQ(x.channels(), y.channels());
+    for (int j = 0; j < x.height(); ++j)
+      for (int i = 0; i < x.width(); ++i)
+        for (int c = 0; c < x.channels(); ++c)
+          ASSERT_EQ(x.pixel(i, j)[c], y.pixel(i, j)[c])
+              << "map " << m << " texel " << i << "," << j;
+  }
+}
+
 TEST(LightmapExtras, RefusesBadOptionsAndNames) {
   LightmapExtrasOptions o;
   EXPECT_THROW(o.select("ao,fog"), Error);
@@ -401,6 +435,16 @@ TEST(LightmapExtras, RefusesBadOptionsAndNames) {
     bad(x);
     EXPECT_THROW(bake::bake_lightmap_extras(s, tracer, raster, x), Error);
   }
+  bake::GlobalLineObscuranceOptions g;
+  g.directions = 0;
+  EXPECT_THROW(bake::obscurance_global_lines(s, tracer, raster, g), Error);
+  g = {};
+  g.obscurance_dmax = -1.0f;
+  EXPECT_THROW(bake::obscurance_global_lines(s, tracer, raster, g), Error);
+  atlas::TexelRaster broken = raster;
+  broken.sample_of.pop_back();
+  EXPECT_THROW(
+      bake::obscurance_global_lines(s, tracer, broken, bake::GlobalLineObscuranceOptions{}), Error);
 }
 
 }  // namespace

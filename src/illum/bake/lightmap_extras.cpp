@@ -229,6 +229,10 @@ GlobalLineObscurance obscurance_global_lines(const Scene& scene, const RayTracer
                             options.obscurance_dmax));
   if (&tracer.scene() != &scene)
     throw Error("global-line obscurance: the ray tracer was built from another scene");
+  if (raster.width < 1 || raster.height < 1 ||
+      raster.sample_of.size() != size_t(raster.width) * size_t(raster.height))
+    throw Error(fmt::format("global-line obscurance: malformed texel raster ({}x{}, {} entries)",
+                            raster.width, raster.height, raster.sample_of.size()));
   ThreadLimit thread_limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const int w = raster.width, h = raster.height;
