@@ -24,6 +24,8 @@ std::span<const Suite> suites() {
       {"path", "path-tracing samples/s and rays/s on cornell and sibenik", &run_path},
       {"lightmap", "light-map baker rays/s vs the path tracer; denoiser error and cost",
        &run_lightmap},
+      {"lightmap-extras", "baked AO vs the ao integrator; global-line vs per-texel obscurance",
+       &run_lightmap_extras},
   };
   return kSuites;
 }

@@ -35,6 +35,7 @@ int run_photons(SuiteArgs args);  // bench_photons.cpp: photon-map build/query, 
 int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs photon vs SPPM
 int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
 int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
+int run_lightmap_extras(SuiteArgs args);  // bench_lightmap_extras.cpp: AO/obscurance maps
 
 // --- helpers shared by suites ---------------------------------------------------------------
 

@@ -12,6 +12,7 @@
 #include "illum/atlas/lightmap_file.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
+#include "illum/bake/lightmap_extras.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
@@ -33,6 +34,10 @@ struct BakeArgs {
   int max_bounces = 8;
   uint64_t seed = 0;
   int threads = 0;
+  std::string extras;  // comma-separated extra maps (bake/lightmap_extras.h)
+  float ao_distance = 0.0f;
+  float obscurance_dmax = bake::kDefaultObscuranceDmax;
+  int extras_rays = bake::kDefaultExtraRays;
   std::vector<std::string> params;  // atlas and baker keys
   LoadOptions load;
 };
@@ -42,6 +47,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 void run_bake(const BakeArgs& args) {
+  bake::LightmapExtrasOptions extras_options;
+  if (!args.extras.empty()) extras_options.select(args.extras);
+  extras_options.ao_distance = args.ao_distance;
+  extras_options.obscurance_dmax = args.obscurance_dmax;
+  extras_options.rays = args.extras_rays;
+  extras_options.seed = args.seed;
+  extras_options.threads = args.threads;
   atlas::check_lightmap_output(args.output);  // before the long work, not after
 
   nlohmann::json j = key_values_to_json(args.params);
@@ -63,6 +75,7 @@ void run_bake(const BakeArgs& args) {
   const atlas::AtlasOptions atlas_options = atlas::AtlasOptions::from_params(params);
   bake::LightmapBakeOptions bake_options = bake::LightmapBakeOptions::from_params(params);
   bake_options.threads = args.threads;
+  extras_options.dilate = bake_options.dilate;
   params.check_all_used();
 
   ThreadLimit limit(args.threads);
@@ -85,6 +98,26 @@ void run_bake(const BakeArgs& args) {
   log::release();  // the input is checked: the load's warnings may show now
   bake::LightmapBake baked = bake::bake_lightmap(scene, tracer, raster, bake_options);
 
+  bake::LightmapExtras extras;
+  if (extras_options.any()) {
+    extras = bake::bake_lightmap_extras(scene, tracer, raster, extras_options);
+    const nlohmann::json common = {{"rays", extras_options.rays}, {"seed", extras_options.seed}};
+    auto add = [&](const char* name, Image& image, nlohmann::json entry) {
+      entry.update(common);
+      set.extras.push_back({name, std::move(image), std::move(entry)});
+    };
+    if (extras_options.ao) add("ao", extras.ao, {{"distance", extras.ao_distance}});
+    if (extras_options.obscurance) {
+      add("obscurance", extras.obscurance, {{"d_max", extras_options.obscurance_dmax}});
+      const Color& r = extras.average_albedo;
+      add("obscurance_color", extras.obscurance_color,
+          {{"d_max", extras_options.obscurance_dmax}, {"average_albedo", {r.x, r.y, r.z}}});
+    }
+    if (extras_options.bent_normal)
+      add("bent_normal", extras.bent_normal,
+          {{"distance", extras.ao_distance}, {"encoding", "world-space unit xyz in [-1, 1]"}});
+  }
+
   set.basis = bake::to_string(baked.basis);
   set.content = bake::to_string(baked.content);
   set.layers = std::move(baked.layers);
@@ -106,6 +139,10 @@ void run_bake(const BakeArgs& args) {
               {"raster_seconds", raster_s},
               {"bake_seconds", baked.seconds},
               {"denoise_seconds", baked.denoise_seconds}};
+  if (extras_options.any()) {
+    set.bake["extras_seconds"] = extras.seconds;
+    set.bake["extras_rays"] = extras.rays;
+  }
   atlas::save_lightmap_set(args.output, set);
 
   const std::string denoised =
@@ -158,6 +195,22 @@ void add_bake_command(CLI::App& app) {
       ->transform(number<uint64_t>(0, UINT64_MAX));
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));
+  cmd->add_option("--extras", args->extras,
+                  "extra maps beside the layers, comma-separated: ao (cosine-weighted ambient "
+                  "occlusion), obscurance (S000 §2.10, plain and with colour bleeding), "
+                  "bent_normal");
+  cmd->add_option("--ao-distance", args->ao_distance,
+                  "occluder search distance of ao and bent_normal in scene units (0: 0.1 × the "
+                  "scene's diagonal, as `illum render -i ao`)")
+      ->transform(number(0.0f, FLT_MAX))
+      ->capture_default_str();
+  cmd->add_option("--obscurance-dmax", args->obscurance_dmax,
+                  "obscurance distance d_max in scene units (surfaces farther count as open)")
+      ->transform(number(FLT_MIN, FLT_MAX))
+      ->capture_default_str();
+  cmd->add_option("--extras-rays", args->extras_rays, "directions per texel for the extra maps")
+      ->transform(number(1, bake::kMaxExtraRays))
+      ->capture_default_str();
   cmd->add_option("-p,--param", args->params,
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
                   "denoise=true|false, denoise_strength)");

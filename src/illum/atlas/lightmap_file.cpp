@@ -50,7 +50,53 @@ Image preview_of(const Image& layer) {
   return tone_mapped(layer, ToneMapper::kAces, 0.18f / average);
 }
 
+constexpr const char* kExtraNames[] = {"ao", "obscurance", "obscurance_color", "bent_normal"};
+
+std::string extra_file_name(const std::string& name) {
+  return name + ".exr";
+}
+
+// Half floats carry 11 significant bits: a unit vector's length comes back within a few
+// 2^-11 (three components rounded by at most 2^-12 each, relative).
+constexpr float kUnitLengthTolerance = 4.0f / 2048.0f;
+
+// Throws Error naming `where` unless the texels of `image` lie in the range of extra `name`.
+void check_extra_values(const std::string& where, const std::string& name, const Image& image) {
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const Color c = image.rgb(x, y);
+      if (name == "bent_normal") {
+        const float len = glm::length(vec3(c));
+        if (len != 0.0f && std::abs(len - 1.0f) > kUnitLengthTolerance)
+          throw Error(
+              fmt::format("{}: texel ({}, {}) has length {}, but bent normals are unit "
+                          "vectors (or 0 outside the charts)",
+                          where, x, y, len));
+      } else {
+        for (int k = 0; k < 3; ++k)
+          if (!(c[k] >= 0.0f && c[k] <= 1.0f))
+            throw Error(
+                fmt::format("{}: texel ({}, {}) holds {}, outside [0, 1]", where, x, y, c[k]));
+        if (name != "obscurance_color" && (c[0] != c[1] || c[1] != c[2]))
+          throw Error(fmt::format("{}: texel ({}, {}) is not grey ({}, {}, {})", where, x, y, c[0],
+                                  c[1], c[2]));
+      }
+    }
+}
+
 }  // namespace
+
+bool is_lightmap_extra_name(const std::string& name) {
+  for (const char* n : kExtraNames)
+    if (name == n) return true;
+  return false;
+}
+
+const LightmapExtra* LightmapSet::extra(const std::string& name) const {
+  for (const LightmapExtra& e : extras)
+    if (e.name == name) return &e;
+  return nullptr;
+}
 
 namespace {
 
@@ -85,6 +131,22 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
   if (set.layers.size() != expected)
     throw Error(fmt::format("light-map set: basis '{}' needs {} layers, got {}", set.basis,
                             expected, set.layers.size()));
+  for (size_t i = 0; i < set.extras.size(); ++i) {
+    const LightmapExtra& e = set.extras[i];
+    if (!is_lightmap_extra_name(e.name))
+      throw Error(fmt::format("light-map set: unknown extra map '{}'", e.name));
+    if (set.extra(e.name) != &e)
+      throw Error(fmt::format("light-map set: extra map '{}' given twice", e.name));
+    if (e.image.width() != set.atlas.width || e.image.height() != set.atlas.height ||
+        e.image.channels() != 3)
+      throw Error(fmt::format("light-map set: extra map '{}' is {}x{}x{}, not {}x{} RGB", e.name,
+                              e.image.width(), e.image.height(), e.image.channels(),
+                              set.atlas.width, set.atlas.height));
+    if (!e.params.is_object())
+      throw Error(
+          fmt::format("light-map set: extra map '{}' parameters must be an object", e.name));
+    check_extra_values(fmt::format("light-map set: extra map '{}'", e.name), e.name, e.image);
+  }
   check_lightmap_output(folder);
   const fs::path target = output_folder(folder);
   const fs::path parent = target.parent_path();
@@ -103,6 +165,13 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
     }
     write_image((staging / "preview.png").string(), preview_of(set.layers[0]));
     save_atlas(set.atlas, staging / kAtlasFile);
+    nlohmann::json extras = nlohmann::json::object();
+    for (const LightmapExtra& e : set.extras) {
+      write_image((staging / extra_file_name(e.name)).string(), e.image, exr);
+      nlohmann::json entry = e.params;
+      entry["file"] = extra_file_name(e.name);
+      extras[e.name] = entry;
+    }
     nlohmann::json manifest = {{"format", "illum-lightmap"},
                                {"version", kVersion},
                                {"basis", set.basis},
@@ -117,6 +186,7 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
                                {"scene_triangles", set.scene_triangles},
                                {"bake", set.bake}};
     if (!set.scene_hash.empty()) manifest["scene_hash"] = set.scene_hash;
+    if (!set.extras.empty()) manifest["extras"] = extras;
     {
       std::ofstream file(staging / kManifest);
       file << manifest.dump(2) << "\n";
@@ -244,6 +314,35 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
       throw Error(fmt::format("{}/{}: {} channels, but light-map layers are RGB", where, name,
                               layer.channels()));
     set.layers.push_back(std::move(layer));
+  }
+  if (manifest.json().contains("extras")) {
+    const nlohmann::json& extras = manifest.at("extras");
+    if (!extras.is_object())
+      manifest.fail("'extras' must be an object of extra map name → {\"file\": ..., ...}");
+    for (const auto& [name, entry] : extras.items()) {
+      if (!is_lightmap_extra_name(name))
+        manifest.fail(
+            fmt::format("unknown extra map '{}' (ao, obscurance, obscurance_color, bent_normal)",
+                        name.substr(0, 40)));
+      if (!entry.is_object() || !entry.contains("file"))
+        manifest.fail(fmt::format("extra map '{}' must be an object with a \"file\"", name));
+      const std::string file = manifest.file_name("extras", entry.at("file"));
+      const std::string file_where = fmt::format("{}/{}", where, file);
+      Image image = read_image((folder / file).string(), false);
+      if (image.width() != set.atlas.width || image.height() != set.atlas.height)
+        throw Error(fmt::format("{}: {}x{}, but the atlas is {}x{}", file_where, image.width(),
+                                image.height(), set.atlas.width, set.atlas.height));
+      if (image.channels() != 3)
+        throw Error(
+            fmt::format("{}: {} channels, but extra maps are RGB", file_where, image.channels()));
+      check_extra_values(file_where, name, image);
+      LightmapExtra extra;
+      extra.name = name;
+      extra.image = std::move(image);
+      extra.params = entry;
+      extra.params.erase("file");
+      set.extras.push_back(std::move(extra));
+    }
   }
   return set;
 }

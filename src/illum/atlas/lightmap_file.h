@@ -9,6 +9,9 @@
 //   layer0.exr ...  linear RGB layers (half floats), meaning per basis as in
 //                   bake/lightmap_baker.h
 //   preview.png     layer 0 tone-mapped, for people
+//   ao.exr, obscurance.exr, obscurance_color.exr, bent_normal.exr
+//                   optional extra maps (bake/lightmap_extras.h), linear half-float RGB,
+//                   listed under "extras" as name → {"file", parameters}
 // The folder is written next to its final place and renamed into it, so a failed or
 // interrupted bake leaves no half-written set; an existing folder is replaced only when it
 // holds an earlier set (a lightmap.json), never an unrelated folder.
@@ -25,6 +28,18 @@
 
 namespace illum::atlas {
 
+// An extra map (bake/lightmap_extras.h): ao, obscurance, obscurance_color (values in
+// [0, 1], grey for the first two) or bent_normal (world-space unit xyz in [−1, 1]; 0 at
+// texels no chart reaches). `params` holds the bake's parameters of the map (distance,
+// d_max, rays, seed, ...) and is written beside "file" in the manifest.
+struct LightmapExtra {
+  std::string name;
+  Image image;
+  nlohmann::json params = nlohmann::json::object();
+};
+// The extra map names the folder format knows.
+bool is_lightmap_extra_name(const std::string& name);
+
 struct LightmapSet {
   Atlas atlas;
   std::string basis = "plain";  // plain | rnm | sh
@@ -37,6 +52,9 @@ struct LightmapSet {
   std::string scene_hash;
   std::string folder;  // where load_lightmap_set read it from, for messages (empty: in memory)
   nlohmann::json bake = nlohmann::json::object();  // free-form numbers of the bake
+  std::vector<LightmapExtra> extras;               // atlas-sized RGB, each name once
+  // The extra called `name`, or nullptr.
+  const LightmapExtra* extra(const std::string& name) const;
 };
 
 // Number of layers a basis has; throws Error for an unknown basis name.
@@ -49,7 +67,7 @@ void check_lightmap_output(const std::filesystem::path& folder);
 void save_lightmap_set(const std::filesystem::path& folder, const LightmapSet& set);
 // Throws Error naming the folder and the problem: missing folder or manifest, malformed
 // JSON, wrong format/version, unknown basis or content, missing or mis-sized layers, a bad
-// atlas file.
+// atlas file, an unknown or malformed extra, an extra map out of its range.
 LightmapSet load_lightmap_set(const std::filesystem::path& folder);
 
 // Puts the set's atlas on `scene` (make_meshes_unique + apply_atlas) after checking that the
