@@ -24,6 +24,8 @@ std::span<const Suite> suites() {
       {"path", "path-tracing samples/s and rays/s on cornell and sibenik", &run_path},
       {"lightmap", "light-map baker rays/s vs the path tracer; denoiser error and cost",
        &run_lightmap},
+      {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
+       &run_photon_defaults},
   };
   return kSuites;
 }
