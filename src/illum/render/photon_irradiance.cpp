@@ -31,7 +31,10 @@ PhotonMap precompute_irradiance(const PhotonMap& global, int stride, int k, floa
           const Color e_irr = estimate_radiance(
               global, at.position, k, max_radius, filter,
               [&](const Photon& ph) {
-                return glm::dot(ph.normal, at.normal) >= kNormalAgreement &&
+                // The photon at the query point is left out: the others are then
+                // distributed as around any point (Slivnyak's theorem for a Poisson
+                // process), so the estimate has the usual k-NN bias, with k − 1 photons.
+                return &ph != &at && glm::dot(ph.normal, at.normal) >= kNormalAgreement &&
                                glm::dot(ph.wi, side) > 0.0f
                            ? Color(1.0f)
                            : Color(0.0f);

@@ -22,7 +22,8 @@ namespace illum {
 
 // Every stored point is a Photon whose `power` holds the irradiance E (W/m² per channel)
 // arriving on the side of `normal` given by `wi` (wi = ±normal), estimated from the global
-// map's photons on that side within the k-nearest (bounded by max_radius) disc.
+// map's photons on that side within the k-nearest (bounded by max_radius) disc, leaving out
+// the photon the point sits on (so the k-NN bias is that of k − 1 photons).
 PhotonMap precompute_irradiance(const PhotonMap& global, int stride, int k, float max_radius,
                                 const FilterSettings& filter);
 
