@@ -54,8 +54,8 @@ std::optional<Color> lookup_irradiance(const PhotonMap& irradiance, const vec3& 
     return glm::dot(pt.normal, ng) >= kNormalAgreement &&
            (glm::dot(pt.wi, ng) > 0.0f) == (glm::dot(wo, ng) > 0.0f);
   };
-  // The nearest point alone first: on open surfaces it is usable, and one neighbour is the
-  // cheapest query (profiled: this halves the lookup time).
+  // The nearest point alone first: away from corners it is usable, and one neighbour is
+  // the cheapest query (a 1-spp 256² Cornell render: 3.2 → 2.5 s CPU against k = 8 always).
   irradiance.knn(p, 1, max_radius, scratch);
   if (scratch->empty()) return std::nullopt;
   if (usable(irradiance.photon((*scratch)[0].index)))

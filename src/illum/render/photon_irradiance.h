@@ -3,7 +3,7 @@
 // computed once at every `stride`-th photon and stored there, so a final-gather ray that
 // ends on a Lambertian surface costs one nearest-point lookup instead of a k-nearest
 // density estimate (k = 100 by default). With 16 gather rays per camera sample the
-// k-nearest queries were 85 % of a Cornell-box render (profile in render/README.md).
+// k-nearest queries were 85 % of a Cornell-box render (profile in docs/photon-mapping.md).
 //
 // Approximation (bias, on top of the density estimate's own): the irradiance at a gather
 // hit y is read from the nearest stored point, which lies within about the photon spacing
