@@ -34,8 +34,9 @@ int run_rays(SuiteArgs args);     // bench_rays.cpp: ray-query throughput, illum
 int run_photons(SuiteArgs args);  // bench_photons.cpp: photon-map build/query, kd-tree vs nanoflann
 int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs photon vs SPPM
 int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
-int run_lightmap(SuiteArgs args);
-int run_photon_defaults(SuiteArgs args);  // bench_photon_defaults.cpp: photon defaults vs path  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
+int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
+// bench_photon_defaults.cpp: the photon integrator's defaults vs the path tracer
+int run_photon_defaults(SuiteArgs args);
 
 // --- helpers shared by suites ---------------------------------------------------------------
 
