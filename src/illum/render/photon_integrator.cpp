@@ -1,6 +1,7 @@
 #include "illum/render/photon_integrator.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include <fmt/format.h>
 
@@ -9,6 +10,7 @@
 #include "illum/core/parallel.h"
 #include "illum/render/light_sampler.h"
 #include "illum/render/material_eval.h"
+#include "illum/render/photon_irradiance.h"
 #include "illum/render/photon_shading.h"
 #include "illum/render/photon_tracer.h"
 #include "illum/render/tile_renderer.h"
@@ -16,6 +18,9 @@
 namespace illum {
 
 namespace {
+
+// Every 4th global photon carries a precomputed irradiance (Christensen 1999 uses the same).
+constexpr int kIrradianceStride = 4;
 
 PhotonIntegrator::ShadowMode parse_shadow_mode(const std::string& s) {
   if (s == "off") return PhotonIntegrator::ShadowMode::kOff;
@@ -46,9 +51,10 @@ PhotonIntegrator::PhotonIntegrator(const Params& params) {
   if (!(filter_.cone_k >= 1.0f))
     throw Error(fmt::format("photon: cone_k must be ≥ 1 (got {})", filter_.cone_k));
   final_gather_ = params.get<bool>("final_gather", true);
-  gather_rays_ = params.get<int>("gather_rays", 16);
+  gather_rays_ = params.get<int>("gather_rays", 4);
   if (gather_rays_ < 1)
     throw Error(fmt::format("photon: gather_rays must be ≥ 1 (got {})", gather_rays_));
+  precomputed_irradiance_ = params.get<bool>("precomputed_irradiance", true);
   shadow_ = parse_shadow_mode(params.get<std::string>("shadow_photons", "off"));
   max_depth_ = params.get<int>("max_depth", -1);
   if (params.has("max_depth") && max_depth_ < 0)
@@ -81,6 +87,16 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
       "building)",
       maps.global.size(), maps.caustic.size(), maps.shadow.size(), maps.trace_seconds,
       maps.build_seconds);
+  PhotonMap irradiance;
+  if (final_gather_ && precomputed_irradiance_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ThreadLimit limit(options.threads);
+    irradiance = precompute_irradiance(maps.global, kIrradianceStride, k_, radius, filter_);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    maps.build_seconds += seconds;
+    log::info("photon: irradiance precomputed at {} points ({:.2f} s)", irradiance.size(), seconds);
+  }
   const bool skip_usable = shadow_ == ShadowMode::kSkip && lights.light_count() == 1;
   constexpr int kShadowK = 16;
 
@@ -131,6 +147,19 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
         [&](const Photon& ph) { return photon_brdf(bsdf, si, wo, ph); }, scratch);
   };
 
+  // Indirect light at a gather hit: the precomputed irradiance for Lambertian surfaces.
+  auto gathered_global = [&](const SurfaceInteraction& y, const Bsdf& by, const vec3& wy,
+                             std::vector<PhotonNeighbor>* scratch) -> Color {
+    if (!irradiance.empty() && by.type() == MaterialType::kLambert) {
+      if (const std::optional<Color> e =
+              lookup_irradiance(irradiance, y.p, y.ng, wy, radius, scratch)) {
+        const vec3 side = glm::dot(wy, y.ng) > 0.0f ? y.ng : -y.ng;
+        return by.eval(wy, side) * *e;
+      }
+    }
+    return global(y, by, wy, scratch);
+  };
+
   // Radiance leaving the first non-delta surface along a final-gather ray.
   auto gather = [&](const SurfaceInteraction& x, const Bsdf& bsdf, const vec3& wo,
                     SobolSampler& sampler, std::vector<PhotonNeighbor>* scratch) -> Color {
@@ -150,7 +179,7 @@ Image PhotonIntegrator::render(const RayTracer& tracer, const Camera& camera,
         const vec3 wy = -ray.direction;
         if (!by.is_delta()) {
           sum += beta * (direct(y, by, wy, sampler, scratch) + caustics(y, by, wy, scratch) +
-                         global(y, by, wy, scratch));
+                         gathered_global(y, by, wy, scratch));
           break;
         }
         const std::optional<BsdfSample> sy = by.sample(wy, sampler.next_1d(), sampler.next_2d());

@@ -16,7 +16,10 @@
 //   filter           none | cone | gaussian                   [cone]
 //   cone_k           cone filter constant k ≥ 1                [1.1]
 //   final_gather     true | false                             [true]
-//   gather_rays      final-gather rays per camera sample      [16, ≥ 1]
+//   gather_rays      final-gather rays per camera sample      [4, ≥ 1]
+//   precomputed_irradiance  true | false                      [true]
+//                    final-gather rays ending on Lambertian surfaces read the global map's
+//                    irradiance precomputed at every 4th photon (photon_irradiance.h)
 //   shadow_photons   off | seed | skip                         [off]
 //                    seed: S004 — direct light without shadow rays, shadows subtracted by
 //                          the negative-flux shadow photons (biased like any estimate);
@@ -47,7 +50,8 @@ class PhotonIntegrator final : public Integrator {
   float radius_ = 0.0f;  // 0: default from the scene size
   FilterSettings filter_;
   bool final_gather_ = true;
-  int gather_rays_ = 16;
+  int gather_rays_ = 4;
+  bool precomputed_irradiance_ = true;
   ShadowMode shadow_ = ShadowMode::kOff;
   int max_depth_ = -1;
   int photon_depth_ = 16;
