@@ -26,6 +26,7 @@ uint32_t format_bytes(VkFormat f) {
     case VK_FORMAT_R8G8B8A8_UNORM:
     case VK_FORMAT_R8G8B8A8_SRGB:
     case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT:
     case VK_FORMAT_D32_SFLOAT:
       return 4;
     case VK_FORMAT_R16G16B16A16_SFLOAT:

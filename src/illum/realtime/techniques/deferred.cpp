@@ -18,11 +18,9 @@ namespace illum::realtime {
 
 namespace {
 
-// Compact G-buffer, 20 bytes a pixel plus the HDR target (was 28 + 8 in four fp16 targets).
-constexpr VkFormat kAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // albedo, exponent
-constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // 2 octahedral normals
-constexpr VkFormat kSpecularFormat = VK_FORMAT_R8G8B8A8_UNORM;     // ks, material type
-const char* const kTargets[3] = {"gbuffer.albedo", "gbuffer.normal", "gbuffer.specular"};
+// Compact G-buffer (frame_targets.h), 20 bytes a pixel plus the HDR target (was 28 + 8 in
+// four fp16 targets).
+const auto& kTargets = kGbufferTargets;
 
 // Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
 void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
@@ -139,12 +137,11 @@ class Deferred final : public FramePipeline {
     // texture, whichever lighting runs.
     graph.add_resource(hdr_target(VK_IMAGE_USAGE_STORAGE_BIT));
     graph.add_resource(depth_target(ctx_.depth_format));
-    const VkFormat formats[3] = {kAlbedoFormat, kNormalFormat, kSpecularFormat};
     for (int k = 0; k < 3; ++k) {
       ResourceDesc r;
       r.name = kTargets[k];
       r.frame_divisor = 1;
-      r.format = formats[k];
+      r.format = kGbufferFormats[k];
       r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT;
       graph.add_resource(r);
     }
