@@ -24,6 +24,10 @@ std::span<const Suite> suites() {
       {"path", "path-tracing samples/s and rays/s on cornell and sibenik", &run_path},
       {"lightmap", "light-map baker rays/s vs the path tracer; denoiser error and cost",
        &run_lightmap},
+#ifdef ILLUM_BENCH_HAVE_GPU
+      {"raster", "real-time passes (illum frame --json) beside this GPU's raster and memory bounds",
+       &run_raster},
+#endif
   };
   return kSuites;
 }

@@ -35,6 +35,9 @@ int run_photons(SuiteArgs args);  // bench_photons.cpp: photon-map build/query, 
 int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs photon vs SPPM
 int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
 int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
+#ifdef ILLUM_BENCH_HAVE_GPU
+int run_raster(SuiteArgs args);  // bench_raster.cpp: real-time passes beside the device's bounds
+#endif
 
 // --- helpers shared by suites ---------------------------------------------------------------
 

@@ -3,53 +3,27 @@
 #include <algorithm>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include "illum/gpu/gpu_image.h"
 #include "illum/gpu/vk_check.h"
 
 namespace illum::gpu {
 
-namespace {
-
-const char* format_name(VkFormat f) {
-  switch (f) {
-    case VK_FORMAT_R8G8B8A8_UNORM:
-      return "rgba8";
-    case VK_FORMAT_R8G8B8A8_SRGB:
-      return "srgba8";
-    case VK_FORMAT_R16G16B16A16_SFLOAT:
-      return "rgba16f";
-    case VK_FORMAT_R32_SFLOAT:
-      return "r32f";
-    case VK_FORMAT_R32G32_SFLOAT:
-      return "rg32f";
-    case VK_FORMAT_R32_UINT:
-      return "r32ui";
-    case VK_FORMAT_D32_SFLOAT:
-      return "d32";
-    case VK_FORMAT_D32_SFLOAT_S8_UINT:
-      return "d32s8";
-    case VK_FORMAT_D24_UNORM_S8_UINT:
-      return "d24s8";
-    default:
-      return "?";
-  }
-}
-
-}  // namespace
-
 std::string RasterFill::key() const {
-  std::string formats;
-  for (VkFormat c : colors) formats += (formats.empty() ? "" : "+") + std::string(format_name(c));
-  if (depth != Depth::kNone)
-    formats += (formats.empty() ? "" : "+") + std::string(format_name(depth_format));
-  const char* how = depth == Depth::kWrite     ? " write"
-                    : depth == Depth::kTest    ? " test"
-                    : depth == Depth::kStencil ? " stencil"
-                                               : "";
-  return fmt::format("{}x{} {}{}{}", width, height, formats.empty() ? "none" : formats, how,
-                     blend ? " blend" : "");
+  std::vector<std::string> formats;
+  for (VkFormat c : colors) formats.emplace_back(format_name(c));
+  if (depth != Depth::kNone) formats.emplace_back(format_name(depth_format));
+  const char* how = depth == Depth::kWrite         ? " write"
+                    : depth == Depth::kTest        ? " test"
+                    : depth == Depth::kStencil     ? " stencil"
+                    : depth == Depth::kStencilTest ? " stencil-test"
+                                                   : "";
+  return fmt::format(
+      "{}x{} {}{}{}", width, height,
+      formats.empty() ? std::string("none") : fmt::format("{}", fmt::join(formats, "+")), how,
+      blend ? " blend" : "");
 }
-
 
 GpuTimer::GpuTimer(Context& context, uint32_t max_scopes)
     : context_(&context), max_scopes_(max_scopes) {
@@ -157,15 +131,15 @@ std::vector<PassTime> GpuTimer::resolve() const {
                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   for (size_t i = 0; i < names_.size(); ++i) {
     const double ticks = static_cast<double>(stamps[2 * i + 1] - stamps[2 * i]);
-    out.push_back({names_[i], ticks * context_->timestamp_period_ns() * 1e-6, depths_[i],
-                   fills_[i], bytes_[i]});
+    out.push_back({names_[i], ticks * context_->timestamp_period_ns() * 1e-6, depths_[i], fills_[i],
+                   bytes_[i]});
   }
   if (counting() && !counts_.empty()) {
     std::vector<uint64_t> samples(counts_.size());
-    ILLUM_VK(vkGetQueryPoolResults(context_->device(), occlusion_, 0,
-                                   static_cast<uint32_t>(samples.size()),
-                                   samples.size() * sizeof(uint64_t), samples.data(),
-                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    ILLUM_VK(vkGetQueryPoolResults(
+        context_->device(), occlusion_, 0, static_cast<uint32_t>(samples.size()),
+        samples.size() * sizeof(uint64_t), samples.data(), sizeof(uint64_t),
+        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     for (size_t q = 0; q < counts_.size(); ++q) {
       const Count& c = counts_[q];
       if (c.scope >= out.size()) continue;

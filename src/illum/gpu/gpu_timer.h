@@ -26,8 +26,9 @@ namespace illum::gpu {
 // The attachments a raster scope fills and how: what a trivial full-screen pass must write
 // to be its bound (illum-bench raster draws exactly this, at this size).
 struct RasterFill {
-  enum class Depth { kNone, kWrite, kTest, kStencil };  // kTest: tested, not written;
-                                                        // kStencil: stencil only, no depth test
+  // kWrite: depth tested and written; kTest: tested, not written; kStencil: the stencil
+  // written, depth untested; kStencilTest: the stencil tested only.
+  enum class Depth { kNone, kWrite, kTest, kStencil, kStencilTest };
   uint32_t width = 0, height = 0;
   std::vector<VkFormat> colors;  // written (added with blending when `blend`)
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
@@ -88,8 +89,8 @@ class GpuTimer {
   uint32_t max_scopes_;
   std::vector<std::string> names_;
   std::vector<int> depths_;
-  std::vector<uint32_t> stack_;  // open scopes, innermost last
-  int open_ = 0;                 // scopes begun and not yet ended
+  std::vector<uint32_t> stack_;                                    // open scopes, innermost last
+  int open_ = 0;                                                   // scopes begun and not yet ended
   std::vector<std::vector<std::pair<RasterFill, double>>> fills_;  // per scope
   std::vector<double> bytes_;                                      // per scope
   // Counting frames.

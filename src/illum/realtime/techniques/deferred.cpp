@@ -1,4 +1,5 @@
-// The deferred pipeline: a compact G-buffer after a depth pre-pass (albedo + exponent RGBA16F,
+// The deferred pipeline: a compact G-buffer after a depth pre-pass (a pass and timer scope of
+// its own; albedo + exponent RGBA16F,
 // both normals octahedral in one RGBA16F, specular + material type RGBA8; position from
 // depth; emission + ambient straight into the HDR target), then the lights: one compute
 // dispatch looping over them (default), or per-light volumes with the stencil trick (S001
@@ -76,6 +77,7 @@ class Deferred final : public FramePipeline {
     // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
     gpu::GraphicsPipelineDesc pre = g;
     pre.fragment_shader = "";
+    pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
     g.depth_write = false;
@@ -145,6 +147,14 @@ class Deferred final : public FramePipeline {
       r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT;
       graph.add_resource(r);
     }
+    // The depth pre-pass is a pass of its own so it is timed (and bounded) on its own.
+    PassDesc pre;
+    pre.name = "depth_prepass";
+    pre.technique = name();
+    pre.phase = Phase::kGeometry;
+    pre.accesses = {{"depth", kDepthAttachment}};
+    pre.record = [this](PassContext& pass) { record_prepass(pass); };
+    graph.add_pass(std::move(pre));
     PassDesc g;
     g.name = "gbuffer";
     g.technique = name();
@@ -200,6 +210,12 @@ class Deferred final : public FramePipeline {
     push.light_index = light;
     push.view_index = 1;  // deferred_light.vert: the full-screen triangle
     vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    pass.fill({ctx_.width(),
+               ctx_.height(),
+               {kHdrFormat},
+               ctx_.depth_format,
+               gpu::RasterFill::Depth::kStencilTest,
+               true});
     vkCmdDraw(c, 3, 1, 0, 0);
   }
 
@@ -215,16 +231,33 @@ class Deferred final : public FramePipeline {
     bind_shading_sets(c, point, layout_.handle(), ctx_.globals, ctx_.shading_sets(set_));
   }
 
+  void record_prepass(PassContext& pass) {
+    DrawTargets t;
+    t.depth = ctx_.resources.image("depth").layer_view(0);
+    t.stencil = true;
+    t.extent = {ctx_.width(), ctx_.height()};
+    pass.fill(
+        {t.extent.width, t.extent.height, {}, ctx_.depth_format, gpu::RasterFill::Depth::kWrite});
+    ctx_.drawer.render(pass.cmd(), t, {&prepass_}, layout_.handle(), ctx_.shading_sets(set_),
+                       SceneView{});
+  }
+
   void record_gbuffer(PassContext& pass) {
     FrameResources& r = ctx_.resources;
     DrawTargets t;
     for (const char* name : kTargets) t.colors.push_back({r.image(name).view(), true, {}});
     t.colors.push_back({r.image("hdr").view(), true, {}});
     t.depth = r.image("depth").layer_view(0);
+    t.clear_depth = false;
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
-    ctx_.drawer.render(pass.cmd(), t, {&prepass_, &gbuffer_}, layout_.handle(),
-                       ctx_.shading_sets(set_), SceneView{});
+    pass.fill({t.extent.width,
+               t.extent.height,
+               {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat},
+               ctx_.depth_format,
+               gpu::RasterFill::Depth::kTest});
+    ctx_.drawer.render(pass.cmd(), t, {&gbuffer_}, layout_.handle(), ctx_.shading_sets(set_),
+                       SceneView{});
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.

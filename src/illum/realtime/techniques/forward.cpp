@@ -1,7 +1,7 @@
-// The forward pipeline: a depth pre-pass (same vertex shader, no fragment shader), then
-// forward.frag with depth EQUAL over all lights, so each pixel shades once however deep the
-// overdraw. With stencil shadow volumes the main pass writes emission + ambient only and
-// each light is added by record_masked_light().
+// The forward pipeline: a depth pre-pass (same vertex shader, no fragment shader; a pass and
+// timer scope of its own), then forward.frag with depth EQUAL over all lights, so each pixel shades
+// once however deep the overdraw. With stencil shadow volumes the main pass writes emission +
+// ambient only and each light is added by record_masked_light().
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
 #include "illum/realtime/scene_draw.h"
@@ -33,6 +33,7 @@ class Forward final : public FramePipeline {
     // Sibenik's nave would otherwise shade every overlapping layer.
     gpu::GraphicsPipelineDesc pre = fwd;
     pre.fragment_shader = "";
+    pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
     fwd.depth_write = false;
@@ -58,6 +59,24 @@ class Forward final : public FramePipeline {
   void declare(FrameGraph& graph) override {
     graph.add_resource(hdr_target());
     graph.add_resource(depth_target(ctx_.depth_format));
+    const VkExtent2D extent{ctx_.width(), ctx_.height()};
+    // The depth pre-pass is a pass of its own so it is timed (and bounded) on its own.
+    PassDesc pre;
+    pre.name = "depth_prepass";
+    pre.technique = name();
+    pre.phase = Phase::kGeometry;
+    pre.accesses = {{"depth", kDepthAttachment}};
+    pre.record = [this, extent](PassContext& pass) {
+      DrawTargets t;
+      t.depth = ctx_.resources.image("depth").layer_view(0);
+      t.stencil = true;
+      t.extent = extent;
+      pass.fill(
+          {extent.width, extent.height, {}, ctx_.depth_format, gpu::RasterFill::Depth::kWrite});
+      ctx_.drawer.render(pass.cmd(), t, {&prepass_}, ctx_.globals.default_layout(),
+                         ctx_.shading_sets(), SceneView{});
+    };
+    graph.add_pass(std::move(pre));
     PassDesc p;
     p.name = "forward";
     p.technique = name();
@@ -65,15 +84,21 @@ class Forward final : public FramePipeline {
     p.accesses = ctx_.shading_reads(kFragmentShader);
     p.accesses.push_back({"hdr", kColorAttachment});
     p.accesses.push_back({"depth", kDepthAttachment});
-    p.record = [this](PassContext& pass) {
+    p.record = [this, extent](PassContext& pass) {
       DrawTargets t;
       t.colors = {{ctx_.resources.image("hdr").view(), true, {}}};
       t.depth = ctx_.resources.image("depth").layer_view(0);
+      t.clear_depth = false;
       t.stencil = true;
-      t.extent = {ctx_.width(), ctx_.height()};
+      t.extent = extent;
       SceneView view;
       view.mode = masked_ ? 1 : 0;
-      ctx_.drawer.render(pass.cmd(), t, {&prepass_, &shade_}, ctx_.globals.default_layout(),
+      pass.fill({extent.width,
+                 extent.height,
+                 {kHdrFormat},
+                 ctx_.depth_format,
+                 gpu::RasterFill::Depth::kTest});
+      ctx_.drawer.render(pass.cmd(), t, {&shade_}, ctx_.globals.default_layout(),
                          ctx_.shading_sets(), view);
     };
     graph.add_pass(std::move(p));
@@ -84,6 +109,12 @@ class Forward final : public FramePipeline {
     view.light_index = light;
     view.mode = 2;  // forward.frag: only this light, no shadow-map lookup (the stencil masks)
     vkCmdSetStencilReference(pass.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+    pass.fill({ctx_.width(),
+               ctx_.height(),
+               {kHdrFormat},
+               ctx_.depth_format,
+               gpu::RasterFill::Depth::kTest,
+               true});
     ctx_.drawer.draw(pass.cmd(), masked_light_, ctx_.globals.default_layout(), ctx_.shading_sets(),
                      view);
   }

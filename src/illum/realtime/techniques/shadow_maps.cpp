@@ -255,6 +255,8 @@ class ShadowMaps final : public ShadowMethod {
     v.view_index = view;
     v.light_index = light;
     v.per_draw = false;
+    pass.fill(
+        {resolution_, resolution_, {format()}, kShadowDepthFormat, gpu::RasterFill::Depth::kWrite});
     ctx_.drawer.render(
         pass.cmd(), t, {&pipeline}, ctx_.globals.default_layout(),
         {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kBakedSet)}, v);

@@ -110,6 +110,17 @@ class ShadowVolumes final : public ShadowMethod {
                                                ctx_.view().view_proj, extent.width, extent.height);
         vkCmdSetScissor(c, 0, 1, &scissor);
         stencil_->record_stencil(c, ctx_.globals.frame_set(), i);
+        if (pass.counting()) {
+          // The overdraw: every sample the z-fail pass rasterized, counted by drawing the
+          // volumes again untested (the counting frame's time is not reported).
+          const uint32_t query = pass.begin_count();
+          stencil_->record_stencil(c, ctx_.globals.frame_set(), i, /*counting=*/true);
+          pass.end_count(query, {extent.width,
+                                 extent.height,
+                                 {},
+                                 ctx_.depth_format,
+                                 gpu::RasterFill::Depth::kStencil});
+        }
       }
       const PassContext::Scope scope = pass.scope("volume_lighting");
       ctx_.pipeline().record_masked_light(pass, static_cast<int>(i));

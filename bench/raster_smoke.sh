@@ -1,0 +1,49 @@
+#!/bin/sh
+# ctest illum_bench.raster_smoke: tiny lavapipe frames of every frame pipeline with shadow
+# maps, and of the deferred pipeline with stencil volumes (overdraw counted), through
+# `illum-bench raster`, validation on. Fails when a row is missing, a raster pass with work
+# has no bound or ratio, the volumes' overdraw was not counted, or anything was validated.
+#   raster_smoke.sh ILLUM ILLUM_BENCH OUTDIR
+set -eu
+illum=$1 bench=$2 out=$3
+rm -rf "$out"
+mkdir -p "$out"
+export ILLUM_VULKAN_VALIDATION=1
+run() {
+  name=$1
+  shift
+  "$illum" frame cornell --width 48 --height 32 --frames 2 --warmup 1 -p shadow_resolution=64 \
+    --json "$out/$name.json" "$@" > "$out/$name.txt"
+}
+run forward-map --technique forward --shadows map
+run deferred-map --technique deferred --shadows map
+run deferred-volume --technique deferred --shadows volume
+"$bench" raster "$out"/*.json --repeats 3 --bandwidth-mib 4 --json "$out/raster.json" > "$out/raster.txt"
+python3 - "$out/raster.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["validation_messages"] == 0, "validation messages in illum-bench raster"
+assert d["copy"]["gb_per_s"] > 0, "no copy bandwidth"
+assert d["raster_bounds"] and all(b["median_ms"] > 0 for b in d["raster_bounds"]), d["raster_bounds"]
+keys = [b["key"] for b in d["raster_bounds"]]
+# The bounds the frames need: the depth pre-pass, the G-buffer's MRT set, the shadow maps at
+# their own size, and the stencil-written volumes.
+for want in ["48x32 d32s8 write", "48x32 rgba16f+rgba16f+rgba8+rgba16f+d32s8 test",
+             "64x64 r32f+d32 write", "48x32 d32s8 stencil"]:
+    assert any(k.replace("d24s8", "d32s8") == want for k in keys), (want, keys)
+names = {}
+for f in d["frames"]:
+    for p in f["passes"]:
+        names.setdefault(f["technique"] + "/" + f["shadows"], []).append(p)
+        if p["bound"] in ("raster", "memory", "nested"):
+            assert p["bound_ms"] > 0 and p["ratio"] > 0, p
+for run, passes in names.items():
+    got = {p["name"]: p for p in passes}
+    assert "depth_prepass" in got, (run, list(got))
+vol = [p for p in names["deferred/volume"] if p["name"] == "stencil_volumes"]
+assert vol and any("stencil" in w for w in vol[0]["work"]), vol
+for n in ["forward-map", "deferred-map", "deferred-volume"]:
+    fr = json.load(open(sys.argv[1].replace("raster.json", n + ".json")))
+    assert fr["validation_messages"] == 0, n
+print("raster smoke ok:", len(keys), "bounds,", sum(len(v) for v in names.values()), "passes")
+PY
