@@ -24,7 +24,9 @@ for scene in ${SCENES:-cornell sibenik}; do
     w=${size%x*} h=${size#*x}
     for pipeline in ${PIPELINES:-forward deferred}; do
       for schedule in every cached; do
-        extra=()
+        # "every": every shadow map re-rendered each frame; "cached": spot and point maps
+        # rendered once (the cascades still every frame).
+        extra=(-p shadow_update_period=1)
         [ "$schedule" = cached ] && extra=(-p shadow_update_period=0)
         name="$scene-$size-$pipeline-$schedule"
         "$illum" frame "$scene" --width "$w" --height "$h" --technique "$pipeline" --shadows map \
