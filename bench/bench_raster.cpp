@@ -1,18 +1,24 @@
 // `illum-bench raster FRAME.json...`: every pass of `illum frame --json` runs beside the bound
 // of the device it ran on. The bounds are measured here, on the same device, in this run:
 //
-// * raster: for each attachment configuration a pass fills (size, colour formats, depth
-//   format, depth written / tested / stencil written / stencil tested, blending), a trivial
-//   full-screen pass into exactly that (shaders/bound_fill*.{vert,frag}: one triangle, a
-//   constant colour) — its median time is what the chip needs to touch every pixel once.
-//   A pass's bound is Σ count × that time over its fills (count: views drawn, or for stencil
-//   shadow volumes the overdraw counted by an occlusion query).
+// * raster: for each attachment configuration and fragment fate a pass declares (size,
+//   colour formats, depth format; the fragment passes and writes, passes and only tests, is
+//   rejected by the depth test, updates the stencil on a depth failure, ...), a trivial
+//   full-screen pass doing exactly that (shaders/bound_fill*: one triangle, a constant
+//   colour; rejection against a depth cleared to 0) — its median time is what the chip
+//   needs per pixel for that work. A pass's work is counted in `illum frame`'s counting
+//   frame with occlusion queries: the fragments that pass its tests, and all it rasterizes
+//   (its draws again, untested) minus those, the rejected ones; its raster bound is
+//   Σ count × that time (count: fragments / pixels, so coverage and overdraw both count).
+// * geometry: the triangles a pass submits times the per-triangle time of culled one-point
+//   triangles (shaders/bound_tris.vert: vertex work and assembly, no setup, no pixel).
 // * memory: a buffer-to-buffer copy of --bandwidth-mib MiB gives the device's copy
 //   bandwidth (bytes read + written per second); a compute pass's bound is the bytes of the
 //   images and buffers it declares (each read once and written once) at that bandwidth.
 //
-// Passes whose median is under 20 µs are listed as dispatch-bound (launch and barrier cost,
-// not their work). Arithmetic bounds are not estimated: no pass declares its operation count.
+// A pass's bound is the largest of these. Passes whose median is under 20 µs are listed as
+// dispatch-bound (launch and barrier cost, not their work). Arithmetic bounds are not
+// estimated: no pass declares its operation count.
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -47,7 +53,7 @@ gpu::RasterFill fill_from_json(const nlohmann::json& j, const std::string& file)
     for (const auto& c : j.at("colors")) f.colors.push_back(c.at("format").get<VkFormat>());
     f.depth_format = j.at("depth_format").get<VkFormat>();
     const int depth = j.at("depth").get<int>();
-    if (depth < 0 || depth > static_cast<int>(Depth::kStencilTest))
+    if (depth < 0 || depth > static_cast<int>(Depth::kStencilZFail))
       throw Error(fmt::format("{}: unknown depth mode {}", file, depth));
     f.depth = static_cast<Depth>(depth);
     f.blend = j.at("blend").get<bool>();
@@ -89,7 +95,11 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
     d.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
     depth = gpu::GpuImage(ctx, d);
   }
-  const bool stencil_mode = f.depth == Depth::kStencil || f.depth == Depth::kStencilTest;
+  const bool stencil_mode = f.depth == Depth::kStencil || f.depth == Depth::kStencilTest ||
+                            f.depth == Depth::kStencilZFail;
+  // Rejected fragments: the depth is cleared to 0 so the full-screen triangle (z = 0.5)
+  // fails LESS everywhere, as overdraw behind nearer surfaces fails.
+  const bool rejecting = f.depth == Depth::kReject || f.depth == Depth::kStencilZFail;
   if (stencil_mode && !gpu::has_stencil(f.depth_format))
     throw Error(fmt::format("fill {}: a stencil mode on a format without stencil", f.key()));
   const bool uint_target = !f.colors.empty() && is_uint(f.colors[0]);
@@ -111,15 +121,16 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   p.additive_blend = f.blend;
   p.depth_format = f.depth_format;
   if (gpu::has_stencil(f.depth_format)) p.stencil_format = f.depth_format;
-  p.depth_test = f.depth == Depth::kWrite || f.depth == Depth::kTest;
+  p.depth_test = f.depth == Depth::kWrite || f.depth == Depth::kTest || rejecting;
   p.depth_write = f.depth == Depth::kWrite;
-  p.depth_compare = f.depth == Depth::kWrite ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_LESS_OR_EQUAL;
+  p.depth_compare = f.depth == Depth::kTest ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
   if (stencil_mode) {
     p.stencil_test = true;
     VkStencilOpState s{};
     s.failOp = s.depthFailOp = VK_STENCIL_OP_KEEP;
     s.passOp = f.depth == Depth::kStencil ? VK_STENCIL_OP_INCREMENT_AND_WRAP : VK_STENCIL_OP_KEEP;
-    s.compareOp = f.depth == Depth::kStencil ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL;
+    if (f.depth == Depth::kStencilZFail) s.depthFailOp = VK_STENCIL_OP_INCREMENT_AND_WRAP;
+    s.compareOp = f.depth == Depth::kStencilTest ? VK_COMPARE_OP_EQUAL : VK_COMPARE_OP_ALWAYS;
     s.compareMask = s.writeMask = 0xff;
     p.stencil_front = p.stencil_back = s;
   }
@@ -160,7 +171,7 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
       // The first (untimed) repetition clears what the others load.
       d.loadOp = load_depth && r > 0 ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
       d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-      d.clearValue.depthStencil = {1.0f, 0};
+      d.clearValue.depthStencil = {rejecting ? 0.0f : 1.0f, 0};
       VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
       info.renderArea = {{0, 0}, {f.width, f.height}};
       info.layerCount = 1;
@@ -190,6 +201,68 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   const std::vector<gpu::PassTime> times = timer.resolve();
   for (size_t i = 2; i < times.size(); ++i) ms.push_back(times[i].ms);
   return ms;
+}
+
+// The geometry bound: ms per triangle of `triangles` indexed triangles (k, k, k), each its
+// own vertex, all at one point (shaders/bound_tris.vert): vertex work and assembly of every
+// triangle, culled before rasterization — less than a real triangle costs (no setup, no
+// pixel), so passes judged by it are at least this slow.
+double ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
+                       std::vector<double>* runs) {
+  std::vector<uint32_t> indices(3 * static_cast<size_t>(triangles));
+  for (uint32_t k = 0; k < triangles; ++k)
+    indices[3 * k] = indices[3 * k + 1] = indices[3 * k + 2] = k;
+  gpu::Buffer index_buffer = gpu::make_device_buffer(
+      ctx, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  gpu::ImageDesc d;
+  d.width = d.height = 1;
+  d.format = VK_FORMAT_R8G8B8A8_UNORM;
+  d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+  gpu::GpuImage target(ctx, d);
+  gpu::PipelineLayout layout(ctx, {}, 0);
+  gpu::GraphicsPipelineDesc p;
+  p.vertex_shader = "bound_tris.vert";
+  p.fragment_shader = "bound_fill1.frag";
+  p.cull = VK_CULL_MODE_NONE;
+  p.depth_test = p.depth_write = false;
+  p.color_formats = {d.format};
+  gpu::Pipeline pipeline(ctx, layout.handle(), p);
+  const int total = repeats + 2;
+  gpu::GpuTimer timer(ctx, static_cast<uint32_t>(total));
+  const VkPipelineStageFlags2 stage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  const VkAccessFlags2 access =
+      VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  ctx.immediate([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    for (int r = 0; r < total; ++r) {
+      target.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, stage, access);
+      VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      a.imageView = target.view();
+      a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      info.renderArea = {{0, 0}, {1, 1}};
+      info.layerCount = 1;
+      info.colorAttachmentCount = 1;
+      info.pColorAttachments = &a;
+      const uint32_t scope = timer.begin(cmd, "triangles");
+      vkCmdBeginRendering(cmd, &info);
+      const VkViewport vp{0.0f, 0.0f, 1.0f, 1.0f, 0.0f, 1.0f};
+      const VkRect2D scissor{{0, 0}, {1, 1}};
+      vkCmdSetViewport(cmd, 0, 1, &vp);
+      vkCmdSetScissor(cmd, 0, 1, &scissor);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+      vkCmdBindIndexBuffer(cmd, index_buffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+      vkCmdDrawIndexed(cmd, 3 * triangles, 1, 0, 0, 0);
+      vkCmdEndRendering(cmd);
+      timer.end(cmd, scope);
+      target.assume_state(VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, stage, access);
+    }
+  });
+  const std::vector<gpu::PassTime> times = timer.resolve();
+  for (size_t i = 2; i < times.size(); ++i) runs->push_back(times[i].ms);
+  return median(*runs) / triangles;
 }
 
 // Copy bandwidth (bytes read + written per ms) of two device-local buffers of `bytes`.
@@ -228,7 +301,7 @@ struct Row {
   int depth = 0;
   double median_ms = 0.0;
   bool has_work = false;
-  double raster_ms = 0.0, memory_ms = 0.0;  // own work's bounds
+  double raster_ms = 0.0, memory_ms = 0.0, geometry_ms = 0.0;  // own work's bounds
   std::vector<std::string> details;
 };
 
@@ -292,6 +365,18 @@ int run_raster(SuiteArgs args) {
       copy_bytes_per_ms(ctx, VkDeviceSize(bandwidth_mib) << 20, repeats, &copy_runs);
   std::printf("  copy bandwidth %.1f GB/s (%d MiB buffer-to-buffer, read + written)\n",
               bytes_per_ms * 1e-6, bandwidth_mib);
+  double most_triangles = 0.0;
+  for (const auto& fr : frames)
+    for (const auto& p : fr["passes"])
+      if (p.contains("work"))
+        most_triangles = std::max(most_triangles, p["work"].value("triangles", 0.0));
+  std::vector<double> triangle_runs;
+  // At least 64k triangles, so launch overhead does not dominate the rate.
+  const uint32_t measured_triangles =
+      static_cast<uint32_t>(std::clamp(most_triangles, 65536.0, 16777216.0));
+  const double triangle_ms = ms_per_triangle(ctx, measured_triangles, repeats, &triangle_runs);
+  std::printf("  triangle rate %.0f Mtriangles/s (%u culled one-point triangles)\n",
+              triangle_ms > 0.0 ? 1e-3 / triangle_ms : 0.0, measured_triangles);
   std::map<std::string, double> bound_ms;
   nlohmann::json bounds = nlohmann::json::array();
   std::printf("  %-44s %10s %12s\n", "raster bound (trivial full-screen pass)", "ms", "Gpixel/s");
@@ -330,6 +415,11 @@ int run_raster(SuiteArgs args) {
         }
         for (const auto& [key, count] : counts)
           r.details.push_back(fmt::format("{:.3g}× {}", count, key));
+        const double triangles = p["work"].value("triangles", 0.0);
+        if (triangles > 0.0) {
+          r.geometry_ms = triangles * triangle_ms;
+          r.details.push_back(fmt::format("{:.4g} triangles", triangles));
+        }
         const double bytes = p["work"].at("bytes").get<double>();
         if (bytes > 0.0) {
           r.memory_ms = bytes / bytes_per_ms;
@@ -356,14 +446,14 @@ int run_raster(SuiteArgs args) {
       } else if (r.median_ms < kDispatchBoundMs) {
         kind = "dispatch";
       } else if (r.has_work) {
-        bound = std::max(r.raster_ms, r.memory_ms);
-        kind = r.raster_ms >= r.memory_ms ? "raster" : "memory";
+        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms});
+        kind = bound == r.raster_ms ? "raster" : bound == r.geometry_ms ? "geometry" : "memory";
       } else {
         // A scope of nested steps only (per-light scopes): the sum of theirs.
         bool any = false;
         for (size_t c = k + 1; c < rows.size() && rows[c].depth > r.depth; ++c)
           if (rows[c].depth == r.depth + 1 && rows[c].has_work) {
-            bound += std::max(rows[c].raster_ms, rows[c].memory_ms);
+            bound += std::max({rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms});
             any = true;
           }
         if (any) {
@@ -408,6 +498,9 @@ int run_raster(SuiteArgs args) {
     j["dispatch_bound_ms"] = kDispatchBoundMs;
     j["copy"] = {{"mib", bandwidth_mib}, {"gb_per_s", bytes_per_ms * 1e-6}, {"runs_ms", copy_runs}};
     j["raster_bounds"] = bounds;
+    j["triangles"] = {{"count", measured_triangles},
+                      {"ms_per_triangle", triangle_ms},
+                      {"runs_ms", triangle_runs}};
     j["frames"] = out_frames;
     j["validation_messages"] = ctx.validation_message_count();
     j["machine"] = machine_info();

@@ -132,7 +132,7 @@ void run_frame(const FrameArgs& args) {
   std::map<std::pair<std::string, int>, nlohmann::json> work;
   if (!args.json.empty())
     for (const gpu::PassTime& t : renderer.measure_work(camera)) {
-      if (t.fills.empty() && t.bytes <= 0.0) continue;
+      if (t.fills.empty() && t.bytes <= 0.0 && t.triangles <= 0.0) continue;
       nlohmann::json fills = nlohmann::json::array();
       for (const auto& [f, count] : t.fills) {
         nlohmann::json colors = nlohmann::json::array();
@@ -147,7 +147,7 @@ void run_frame(const FrameArgs& args) {
                          {"blend", f.blend},
                          {"count", count}});
       }
-      work[{t.name, t.depth}] = {{"fills", fills}, {"bytes", t.bytes}};
+      work[{t.name, t.depth}] = {{"fills", fills}, {"bytes", t.bytes}, {"triangles", t.triangles}};
     }
 
   std::printf(

@@ -14,11 +14,13 @@ std::string RasterFill::key() const {
   std::vector<std::string> formats;
   for (VkFormat c : colors) formats.emplace_back(format_name(c));
   if (depth != Depth::kNone) formats.emplace_back(format_name(depth_format));
-  const char* how = depth == Depth::kWrite         ? " write"
-                    : depth == Depth::kTest        ? " test"
-                    : depth == Depth::kStencil     ? " stencil"
-                    : depth == Depth::kStencilTest ? " stencil-test"
-                                                   : "";
+  const char* how = depth == Depth::kWrite          ? " write"
+                    : depth == Depth::kTest         ? " test"
+                    : depth == Depth::kStencil      ? " stencil"
+                    : depth == Depth::kStencilTest  ? " stencil-test"
+                    : depth == Depth::kReject       ? " reject"
+                    : depth == Depth::kStencilZFail ? " zfail"
+                                                    : "";
   return fmt::format(
       "{}x{} {}{}{}", width, height,
       formats.empty() ? std::string("none") : fmt::format("{}", fmt::join(formats, "+")), how,
@@ -59,6 +61,7 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
   stack_.clear();
   fills_.clear();
   bytes_.clear();
+  triangles_.clear();
   counts_.clear();
   open_ = 0;
   if (pool_) vkCmdResetQueryPool(cmd, pool_, 0, 2 * max_scopes_);
@@ -73,6 +76,7 @@ uint32_t GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
   depths_.push_back(open_++);
   fills_.emplace_back();
   bytes_.push_back(0.0);
+  triangles_.push_back(0.0);
   stack_.push_back(scope);
   if (pool_) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, 2 * scope);
   return scope;
@@ -92,6 +96,10 @@ void GpuTimer::note_fill(const RasterFill& fill, double count) {
 
 void GpuTimer::note_bytes(double bytes) {
   if (!stack_.empty()) bytes_[stack_.back()] += bytes;
+}
+
+void GpuTimer::note_triangles(double triangles) {
+  if (!stack_.empty()) triangles_[stack_.back()] += triangles;
 }
 
 void GpuTimer::set_counting(bool on) {
@@ -115,10 +123,13 @@ uint32_t GpuTimer::begin_count(VkCommandBuffer cmd) {
   return query;
 }
 
-void GpuTimer::end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample) {
+void GpuTimer::end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample,
+                         int minus) {
   if (!counting()) return;
-  ILLUM_CHECK(query < counts_.size(), "end_count without begin_count");
+  ILLUM_CHECK(query < counts_.size() && minus < static_cast<int>(query),
+              "end_count without begin_count");
   counts_[query].fill = per_sample;
+  counts_[query].minus = minus;
   vkCmdEndQuery(cmd, occlusion_, query);
 }
 
@@ -132,7 +143,7 @@ std::vector<PassTime> GpuTimer::resolve() const {
   for (size_t i = 0; i < names_.size(); ++i) {
     const double ticks = static_cast<double>(stamps[2 * i + 1] - stamps[2 * i]);
     out.push_back({names_[i], ticks * context_->timestamp_period_ns() * 1e-6, depths_[i], fills_[i],
-                   bytes_[i]});
+                   bytes_[i], triangles_[i]});
   }
   if (counting() && !counts_.empty()) {
     std::vector<uint64_t> samples(counts_.size());
@@ -144,8 +155,9 @@ std::vector<PassTime> GpuTimer::resolve() const {
       const Count& c = counts_[q];
       if (c.scope >= out.size()) continue;
       const double area = static_cast<double>(c.fill.width) * c.fill.height;
-      out[c.scope].fills.emplace_back(c.fill,
-                                      area > 0.0 ? static_cast<double>(samples[q]) / area : 0.0);
+      const double less = c.minus >= 0 ? static_cast<double>(samples[c.minus]) : 0.0;
+      const double n = std::max(0.0, static_cast<double>(samples[q]) - less);
+      out[c.scope].fills.emplace_back(c.fill, area > 0.0 ? n / area : 0.0);
     }
   }
   return out;

@@ -26,9 +26,11 @@ namespace illum::gpu {
 // The attachments a raster scope fills and how: what a trivial full-screen pass must write
 // to be its bound (illum-bench raster draws exactly this, at this size).
 struct RasterFill {
-  // kWrite: depth tested and written; kTest: tested, not written; kStencil: the stencil
-  // written, depth untested; kStencilTest: the stencil tested only.
-  enum class Depth { kNone, kWrite, kTest, kStencil, kStencilTest };
+  // What each fragment does. kWrite: depth tested, passes, written; kTest: tested, passes,
+  // not written; kReject: tested and rejected (overdraw behind what is drawn); kStencil: the
+  // stencil written, depth untested; kStencilTest: the stencil tested only; kStencilZFail:
+  // depth tested and failing, the stencil written on the failure (z-fail shadow volumes).
+  enum class Depth { kNone, kWrite, kTest, kStencil, kStencilTest, kReject, kStencilZFail };
   uint32_t width = 0, height = 0;
   std::vector<VkFormat> colors;  // written (added with blending when `blend`)
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
@@ -50,6 +52,7 @@ struct PassTime {
   // compute work.
   std::vector<std::pair<RasterFill, double>> fills;
   double bytes = 0.0;
+  double triangles = 0.0;  // triangles submitted (scene draws: every view's)
 };
 
 class GpuTimer {
@@ -72,14 +75,20 @@ class GpuTimer {
   // Work of the innermost open scope (ignored outside any scope).
   void note_fill(const RasterFill& fill, double count = 1.0);
   void note_bytes(double bytes);
+  void note_triangles(double triangles);
   // Counting frames: from the next reset() on, begin_count/end_count record occlusion queries
   // (precise where the device has occlusionQueryPrecise); otherwise they record nothing.
   void set_counting(bool on);
   bool counting() const { return counting_ && occlusion_ != VK_NULL_HANDLE; }
+  // Occlusion queries around depth-tested draws: not on a software device (lavapipe crashes
+  // on them in frames that also build stencil shadow volumes on the GPU).
+  bool counts_tested() const { return counting() && !context_->is_software(); }
   // Inside a rendering scope: the samples of the draws recorded until end_count() become
-  // fills of `per_sample` (count = samples / (width × height)) for the innermost open scope.
+  // fills of `per_sample` (count = samples / (width × height)) for the innermost open scope;
+  // with `minus` (an earlier query), its samples are subtracted (fragments rasterized minus
+  // those that passed: the rejected ones).
   uint32_t begin_count(VkCommandBuffer cmd);
-  void end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample);
+  void end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample, int minus = -1);
 
  private:
   void create_pool();
@@ -93,6 +102,7 @@ class GpuTimer {
   int open_ = 0;                                                   // scopes begun and not yet ended
   std::vector<std::vector<std::pair<RasterFill, double>>> fills_;  // per scope
   std::vector<double> bytes_;                                      // per scope
+  std::vector<double> triangles_;                                  // per scope
   // Counting frames.
   bool counting_ = false;
   VkQueryPool occlusion_ = VK_NULL_HANDLE;
@@ -100,6 +110,7 @@ class GpuTimer {
   struct Count {
     uint32_t scope;
     RasterFill fill;
+    int minus = -1;
   };
   std::vector<Count> counts_;
 };

@@ -236,8 +236,16 @@ uint32_t PassContext::begin_count() {
   return counting() ? timer_->begin_count(cmd_) : 0;
 }
 
-void PassContext::end_count(uint32_t query, const gpu::RasterFill& per_sample) {
-  if (counting()) timer_->end_count(cmd_, query, per_sample);
+void PassContext::end_count(uint32_t query, const gpu::RasterFill& per_sample, int minus) {
+  if (counting()) timer_->end_count(cmd_, query, per_sample, minus);
+}
+
+bool PassContext::counts_tested() const {
+  return counting() && timer_->counts_tested();
+}
+
+void PassContext::triangles(double count) {
+  if (timer_) timer_->note_triangles(count);
 }
 
 bool PassContext::has_history(const std::string& resource) const {

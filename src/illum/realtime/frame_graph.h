@@ -194,9 +194,16 @@ class PassContext {
   void fill(const gpu::RasterFill& fill, double count = 1.0);
   // Counting frames (Renderer::measure_work): the samples of the draws recorded between the
   // two calls, inside a rendering scope, become fills of `per_sample` (their overdraw).
+  // With `minus` (an earlier query of this frame) its samples are subtracted.
   bool counting() const;
   uint32_t begin_count();
-  void end_count(uint32_t query, const gpu::RasterFill& per_sample);
+  void end_count(uint32_t query, const gpu::RasterFill& per_sample, int minus = -1);
+  // Whether fragments that pass a draw's tests may be counted apart (not on a software
+  // device: lavapipe crashes on occlusion queries around depth-tested draws in frames that
+  // also build shadow volumes on the GPU).
+  bool counts_tested() const;
+  // Triangles the innermost open scope submitted (its geometry bound).
+  void triangles(double count);
   // Whether "NAME.previous" holds a frame (false on the first frame after creation).
   bool has_history(const std::string& resource) const;
 

@@ -294,6 +294,7 @@ struct Renderer::Impl {
       } else {
         it->ms += t.ms;
         it->bytes += t.bytes;
+        it->triangles += t.triangles;
         it->fills.insert(it->fills.end(), t.fills.begin(), t.fills.end());
       }
     }

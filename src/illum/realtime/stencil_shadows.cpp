@@ -134,6 +134,7 @@ StencilShadows::StencilShadows(gpu::Context& context, const GpuScene& scene, siz
   counted.depth_write = false;
   counted.stencil_test = false;
   count_pipeline_ = gpu::Pipeline(context, pipeline_layout, counted);
+
   if (source == SilhouetteSource::kGpu) create_gpu_resources(light_count);
 }
 
@@ -252,16 +253,17 @@ void StencilShadows::record_extraction(VkCommandBuffer cmd, const std::vector<Li
 }
 
 void StencilShadows::record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_set, size_t light,
-                                    bool counting) const {
+                                    StencilDraw what) const {
+  const VkPipeline pipeline =
+      what == StencilDraw::kRasterized ? count_pipeline_.handle() : stencil_pipeline_.handle();
   const bool gpu = source_ == SilhouetteSource::kGpu;
   if (gpu ? light >= outputs_.size()
           : light >= cpu_ranges_.size() || cpu_ranges_[light].second == 0)
     return;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                    counting ? count_pipeline_.handle() : stencil_pipeline_.handle());
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1, &frame_set,
                           0, nullptr);
-  if (!counting) vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+  if (what == StencilDraw::kCount) vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
   const VkDeviceSize offset = 0;
   const VkBuffer vertices = gpu ? outputs_[light].handle() : cpu_vertices_.handle();
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);

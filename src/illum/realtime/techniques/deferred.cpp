@@ -80,9 +80,11 @@ class Deferred final : public FramePipeline {
     pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
+    prepass_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(pre));
     g.depth_write = false;
     g.depth_compare = VK_COMPARE_OP_EQUAL;
     gbuffer_ = gpu::Pipeline(ctx.gpu, layout, g);
+    gbuffer_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(g));
     gpu::GraphicsPipelineDesc l;
     l.vertex_shader = "deferred_light.vert";
     l.fragment_shader = "deferred_light.frag";
@@ -210,12 +212,6 @@ class Deferred final : public FramePipeline {
     push.light_index = light;
     push.view_index = 1;  // deferred_light.vert: the full-screen triangle
     vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-    pass.fill({ctx_.width(),
-               ctx_.height(),
-               {kHdrFormat},
-               ctx_.depth_format,
-               gpu::RasterFill::Depth::kStencilTest,
-               true});
     vkCmdDraw(c, 3, 1, 0, 0);
   }
 
@@ -236,10 +232,11 @@ class Deferred final : public FramePipeline {
     t.depth = ctx_.resources.image("depth").layer_view(0);
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
-    pass.fill(
-        {t.extent.width, t.extent.height, {}, ctx_.depth_format, gpu::RasterFill::Depth::kWrite});
-    ctx_.drawer.render(pass.cmd(), t, {&prepass_}, layout_.handle(), ctx_.shading_sets(set_),
-                       SceneView{});
+    using D = gpu::RasterFill::Depth;
+    const uint32_t w = t.extent.width, h = t.extent.height;
+    ctx_.drawer.render_counted(
+        pass, t, prepass_, prepass_count_, layout_.handle(), ctx_.shading_sets(set_), SceneView{},
+        {w, h, {}, ctx_.depth_format, D::kWrite}, {w, h, {}, ctx_.depth_format, D::kReject});
   }
 
   void record_gbuffer(PassContext& pass) {
@@ -251,13 +248,12 @@ class Deferred final : public FramePipeline {
     t.clear_depth = false;
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
-    pass.fill({t.extent.width,
-               t.extent.height,
-               {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat},
-               ctx_.depth_format,
-               gpu::RasterFill::Depth::kTest});
-    ctx_.drawer.render(pass.cmd(), t, {&gbuffer_}, layout_.handle(), ctx_.shading_sets(set_),
-                       SceneView{});
+    using D = gpu::RasterFill::Depth;
+    const uint32_t w = t.extent.width, h = t.extent.height;
+    const std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
+    ctx_.drawer.render_counted(
+        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_), SceneView{},
+        {w, h, mrt, ctx_.depth_format, D::kTest}, {w, h, mrt, ctx_.depth_format, D::kReject});
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
@@ -318,8 +314,8 @@ class Deferred final : public FramePipeline {
   gpu::DescriptorSetLayout set_layout_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
-  gpu::Pipeline prepass_, gbuffer_, compute_light_, light_stencil_, light_volume_,
-      light_fullscreen_, masked_light_;
+  gpu::Pipeline prepass_, gbuffer_, prepass_count_, gbuffer_count_, compute_light_, light_stencil_,
+      light_volume_, light_fullscreen_, masked_light_;
   gpu::Buffer sphere_vertices_, sphere_indices_;
   uint32_t sphere_index_count_ = 0;
 };

@@ -36,9 +36,11 @@ class Forward final : public FramePipeline {
     pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
+    prepass_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(pre));
     fwd.depth_write = false;
     fwd.depth_compare = VK_COMPARE_OP_EQUAL;
     shade_ = gpu::Pipeline(ctx.gpu, layout, fwd);
+    shade_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(fwd));
     if (masked_) {
       gpu::GraphicsPipelineDesc l = fwd;
       // Same vertex shader and state as the depth pass, so the depths repeat exactly (the
@@ -71,10 +73,11 @@ class Forward final : public FramePipeline {
       t.depth = ctx_.resources.image("depth").layer_view(0);
       t.stencil = true;
       t.extent = extent;
-      pass.fill(
-          {extent.width, extent.height, {}, ctx_.depth_format, gpu::RasterFill::Depth::kWrite});
-      ctx_.drawer.render(pass.cmd(), t, {&prepass_}, ctx_.globals.default_layout(),
-                         ctx_.shading_sets(), SceneView{});
+      using D = gpu::RasterFill::Depth;
+      ctx_.drawer.render_counted(pass, t, prepass_, prepass_count_, ctx_.globals.default_layout(),
+                                 ctx_.shading_sets(), SceneView{},
+                                 {extent.width, extent.height, {}, ctx_.depth_format, D::kWrite},
+                                 {extent.width, extent.height, {}, ctx_.depth_format, D::kReject});
     };
     graph.add_pass(std::move(pre));
     PassDesc p;
@@ -93,13 +96,12 @@ class Forward final : public FramePipeline {
       t.extent = extent;
       SceneView view;
       view.mode = masked_ ? 1 : 0;
-      pass.fill({extent.width,
-                 extent.height,
-                 {kHdrFormat},
-                 ctx_.depth_format,
-                 gpu::RasterFill::Depth::kTest});
-      ctx_.drawer.render(pass.cmd(), t, {&shade_}, ctx_.globals.default_layout(),
-                         ctx_.shading_sets(), view);
+      using D = gpu::RasterFill::Depth;
+      const uint32_t w = extent.width, h = extent.height;
+      ctx_.drawer.render_counted(pass, t, shade_, shade_count_, ctx_.globals.default_layout(),
+                                 ctx_.shading_sets(), view,
+                                 {w, h, {kHdrFormat}, ctx_.depth_format, D::kTest},
+                                 {w, h, {kHdrFormat}, ctx_.depth_format, D::kReject});
     };
     graph.add_pass(std::move(p));
   }
@@ -109,19 +111,13 @@ class Forward final : public FramePipeline {
     view.light_index = light;
     view.mode = 2;  // forward.frag: only this light, no shadow-map lookup (the stencil masks)
     vkCmdSetStencilReference(pass.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
-    pass.fill({ctx_.width(),
-               ctx_.height(),
-               {kHdrFormat},
-               ctx_.depth_format,
-               gpu::RasterFill::Depth::kTest,
-               true});
     ctx_.drawer.draw(pass.cmd(), masked_light_, ctx_.globals.default_layout(), ctx_.shading_sets(),
                      view);
   }
 
  private:
   bool masked_ = false;
-  gpu::Pipeline prepass_, shade_, masked_light_;
+  gpu::Pipeline prepass_, shade_, masked_light_, prepass_count_, shade_count_;
 };
 
 }  // namespace

@@ -107,6 +107,7 @@ class Visibility final : public FramePipeline {
     g.depth_format = ctx.depth_format;
     g.stencil_format = ctx.depth_format;
     raster_ = gpu::Pipeline(ctx.gpu, ctx.globals.default_layout(), g);
+    raster_count_ = gpu::Pipeline(ctx.gpu, ctx.globals.default_layout(), counting_variant(g));
     resolve_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "visibility_resolve.comp");
   }
 
@@ -160,13 +161,12 @@ class Visibility final : public FramePipeline {
     t.extent = {ctx_.width(), ctx_.height()};
     SceneView view;
     view.mode = packing_.triangle_bits;  // push.pad, read by visibility.frag
-    pass.fill({t.extent.width,
-               t.extent.height,
-               {kIdFormat},
-               ctx_.depth_format,
-               gpu::RasterFill::Depth::kWrite});
-    ctx_.drawer.render(pass.cmd(), t, {&raster_}, ctx_.globals.default_layout(),
-                       ctx_.shading_sets(), view);
+    using D = gpu::RasterFill::Depth;
+    const uint32_t w = t.extent.width, h = t.extent.height;
+    ctx_.drawer.render_counted(pass, t, raster_, raster_count_, ctx_.globals.default_layout(),
+                               ctx_.shading_sets(), view,
+                               {w, h, {kIdFormat}, ctx_.depth_format, D::kWrite},
+                               {w, h, {kIdFormat}, ctx_.depth_format, D::kReject});
   }
 
   // One dispatch per material in use, its textures bound as set 1 (the resolve shades the
@@ -199,7 +199,7 @@ class Visibility final : public FramePipeline {
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
   gpu::Buffer draws_;
-  gpu::Pipeline raster_, resolve_;
+  gpu::Pipeline raster_, raster_count_, resolve_;
 };
 
 }  // namespace
