@@ -5,11 +5,11 @@
 // more scopes than it holds.
 //
 // A scope also carries the work it did, so its time can be judged against the device's
-// bounds (illum-bench raster): raster fills (a target configuration and how many times its
-// whole area was filled) and, for compute work, the bytes it must at least move. In a
-// counting frame (set_counting), draws between begin_count() and end_count() are counted by
-// a precise occlusion query and become fills of the scope (stencil shadow volumes: their
-// overdraw).
+// bounds (illum-bench raster): raster fills (a target configuration, what each fragment
+// does, and how many times the target's area), triangles, and for compute work the bytes
+// of what it declares. In a counting frame (set_counting), draws between begin_count() and
+// end_count() are counted by a precise occlusion query and become fills of the scope
+// (fragments that passed a pass's tests, the rejected rest, stencil volumes' samples).
 #pragma once
 
 #include <cstdint>

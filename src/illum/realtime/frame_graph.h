@@ -23,9 +23,10 @@
 //   a row with one label share one scope); a pass may open nested scopes (per light).
 //   CPU passes are timed on the CPU and reported as "cpu:NAME".
 // * Work: each scope also records what bounds it (illum-bench raster): a raster pass notes
-//   the fills of its targets (PassContext::fill); a pass without attachments is compute
-//   work, and the graph notes the bytes of the images and buffers it declares (read and
-//   written, each once: the least it must move).
+//   its fills (PassContext::fill, or counted with occlusion queries in a counting frame:
+//   SceneDrawer::render_counted) and triangles; a pass without attachments is compute
+//   work, and the graph notes the bytes of the images and buffers it declares (each read
+//   once and written once).
 //
 // Nothing here needs a GPU: with VK_NULL_HANDLE as the command buffer and no bound images
 // the graph runs its schedules and derives barriers as data (tests/realtime/frame_graph_test).
