@@ -8,23 +8,12 @@
 // lighting.glsl's own load_surface, ambient_term_for and light_contribution with the same
 // shadow lookups, into the HDR target (emission + ambient + lights, written once).
 //
-// One dispatch per material in use (push.material, its textures bound as set 1 like a draw's):
-// a pixel whose triangle has another material is left to that material's dispatch, so no
-// texture array indexed per pixel is needed (lavapipe has no descriptor indexing). The first
-// dispatch (push.view_index = 1) also writes the empty pixels.
+// One indirect dispatch per material in use (push.material, its textures bound as set 1
+// like a draw's; push.light_index: its slot) over the tiles that show it
+// (visibility_classify.comp); a pixel of another material is left to that one's dispatch,
+// so no texture array indexed per pixel is needed (lavapipe has no descriptor indexing).
 layout(local_size_x = 8, local_size_y = 8) in;
-#include "common.glsl"
-
-// Set 2, the visibility pipeline's (realtime/techniques/visibility.cpp).
-layout(set = 2, binding = 0) uniform usampler2D vis_ids;
-layout(set = 2, binding = 1, rgba16f) uniform writeonly image2D hdr_image;
-layout(std430, set = 2, binding = 2) readonly buffer Vertices { float vertex_data[]; };
-layout(std430, set = 2, binding = 3) readonly buffer Indices { uint index_data[]; };
-struct DrawData {
-  mat4 model;
-  ivec4 info;  // x: material (clamped like the draws'), y: first index, z: vertex offset
-};
-layout(std430, set = 2, binding = 4) readonly buffer Draws { DrawData draws[]; };
+#include "visibility.glsl"
 
 // lighting.glsl's sampling hooks: explicit gradients (no quads in a compute shader).
 vec2 g_uv0_dx, g_uv0_dy, g_uv1_dx, g_uv1_dy;
@@ -32,7 +21,6 @@ vec2 g_uv0_dx, g_uv0_dy, g_uv1_dx, g_uv1_dy;
 #define SAMPLE_LIGHTMAP(uvw) textureGrad(lightmap, uvw, g_uv1_dx, g_uv1_dy)
 #include "lighting.glsl"
 
-const uint kNoId = 0xffffffffu;
 const int kFloats = 14;  // realtime/gpu_types.h Vertex: position, normal, tangent, uv0, uv1
 
 vec3 vertex_vec3(uint v, int offset) {
@@ -70,14 +58,11 @@ vec3 barycentrics(vec2 pixel, vec3 p0, vec3 p1, vec3 p2) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  uint tile = tiles[uint(push.light_index) * tile_count() + gl_WorkGroupID.x];
+  ivec2 pixel = ivec2(tile % tiles_x(), tile / tiles_x()) * 8 + ivec2(gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, ivec2(frame.extent.xy)))) return;
   uint id = texelFetch(vis_ids, pixel, 0).r;
-  if (id == kNoId) {
-    // The cleared value of the other pipelines.
-    if (push.view_index == 1) imageStore(hdr_image, pixel, vec4(0.0));
-    return;
-  }
+  if (id == kNoId) return;  // written by the classification
   int tri_bits = push.pad;
   uint draw = id >> uint(tri_bits);
   uint triangle = id & ((1u << uint(tri_bits)) - 1u);

@@ -2,8 +2,9 @@
 // (no pre-pass: the pass writes 4 bytes of colour a pixel, whatever the overdraw), then one
 // compute pass rebuilds each pixel's surface from the vertex and index buffers
 // (shaders/visibility_resolve.comp: the pixel ray against the triangle for the barycentrics,
-// analytic UV derivatives for the texture LOD; one dispatch per material in use, with that
-// material's textures bound as a draw binds them) and lights it with the lighting.glsl functions
+// analytic UV derivatives for the texture LOD; one indirect dispatch per material in use
+// over the 8×8 tiles a classification pass found showing it, with that material's textures
+// bound as a draw binds them) and lights it with the lighting.glsl functions
 // the other pipelines use, the same shadow lookups and the same baked-lighting set.
 //
 // Id packing: id = draw << T | triangle, T = the bits of the largest mesh's triangle count
@@ -45,6 +46,9 @@ namespace {
 
 constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
 constexpr const char* kIds = "visibility.ids";
+constexpr const char* kTileArgs = "visibility.tile_args";  // per slot: dispatch x, 1, 1, 0
+constexpr const char* kTiles = "visibility.tiles";         // per slot: its tiles
+constexpr size_t kMaxSlots = 2048;  // shaders/visibility_classify.comp: 64 × 32 bits
 
 // shaders/visibility_resolve.comp DrawData (std430).
 struct GpuDrawData {
@@ -73,13 +77,18 @@ class Visibility final : public FramePipeline {
       const MeshRange& r = scene.meshes()[d.mesh];
       max_triangles = std::max<size_t>(max_triangles, r.index_count / 3);
       const int material = ctx.globals.material_index(d.material);
+      auto slot = std::find(materials_.begin(), materials_.end(), material);
+      if (slot == materials_.end()) slot = materials_.insert(materials_.end(), material);
       draws.push_back(
-          {d.transform, glm::ivec4(material, static_cast<int>(r.first_index), r.vertex_offset, 0)});
-      if (std::find(materials_.begin(), materials_.end(), material) == materials_.end())
-        materials_.push_back(material);
+          {d.transform, glm::ivec4(material, static_cast<int>(r.first_index), r.vertex_offset,
+                                   static_cast<int>(slot - materials_.begin()))});
     }
     packing_ = visibility_packing(draws.size(), max_triangles);
-    if (materials_.empty()) materials_.push_back(0);  // no draws: one dispatch, empty pixels
+    if (materials_.size() > kMaxSlots)
+      throw Error(fmt::format(
+          "--technique visibility: the scene's draws use {} materials (the tile classification "
+          "holds {}); use deferred",
+          materials_.size(), kMaxSlots));
     if (draws.empty()) draws.push_back({});
     draws_ = gpu::make_device_buffer(ctx.gpu, draws.data(), draws.size() * sizeof(GpuDrawData),
                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -88,8 +97,8 @@ class Visibility final : public FramePipeline {
     const auto ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     set_layout_ = gpu::DescriptorSetLayout(
-        ctx.gpu,
-        {B{0, cis}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, B{2, ssbo}, B{3, ssbo}, B{4, ssbo}});
+        ctx.gpu, {B{0, cis}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, B{2, ssbo}, B{3, ssbo},
+                  B{4, ssbo}, B{5, ssbo}, B{6, ssbo}});
     set_ = descriptors_.allocate(set_layout_);
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
     gpu::DescriptorWriter w;
@@ -109,6 +118,7 @@ class Visibility final : public FramePipeline {
     raster_ = gpu::Pipeline(ctx.gpu, ctx.globals.default_layout(), g);
     raster_count_ = gpu::Pipeline(ctx.gpu, ctx.globals.default_layout(), counting_variant(g));
     resolve_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "visibility_resolve.comp");
+    classify_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "visibility_classify.comp");
   }
 
   void declare(FrameGraph& graph) override {
@@ -126,11 +136,35 @@ class Visibility final : public FramePipeline {
     p.accesses = {{kIds, kColorAttachment}, {"depth", kDepthAttachment}};
     p.record = [this](PassContext& pass) { record_ids(pass); };
     graph.add_pass(std::move(p));
+    const uint64_t tiles = uint64_t((ctx_.width() + 7) / 8) * ((ctx_.height() + 7) / 8);
+    ResourceDesc args;
+    args.name = kTileArgs;
+    args.kind = ResourceDesc::Kind::kBuffer;
+    args.bytes = 16 * materials_.size();
+    graph.add_resource(args);
+    ResourceDesc list = args;
+    list.name = kTiles;
+    list.bytes = 4 * tiles * materials_.size();
+    graph.add_resource(list);
+    PassDesc c;
+    c.name = "visibility_classify";
+    c.technique = name();
+    c.phase = Phase::kLighting;
+    c.accesses = {{kIds, kSampled, kComputeShader},
+                  {"hdr", kStorageWrite, kComputeShader},
+                  {kTileArgs, kTransferDst},
+                  {kTiles, kStorageWrite, kComputeShader},
+                  {kTileArgs, kStorageRead | kStorageWrite, kComputeShader}};
+    c.record = [this](PassContext& pass) { record_classify(pass); };
+    graph.add_pass(std::move(c));
     PassDesc r;
     r.name = "visibility_resolve";
     r.technique = name();
     r.phase = Phase::kLighting;
-    r.accesses = {{kIds, kSampled, kComputeShader}, {"hdr", kStorageWrite, kComputeShader}};
+    r.accesses = {{kIds, kSampled, kComputeShader},
+                  {"hdr", kStorageWrite, kComputeShader},
+                  {kTileArgs, kIndirectArgs},
+                  {kTiles, kStorageRead, kComputeShader}};
     for (const Access& a : ctx_.shading_reads(kComputeShader)) r.accesses.push_back(a);
     r.record = [this](PassContext& pass) { record_resolve(pass); };
     graph.add_pass(std::move(r));
@@ -143,6 +177,8 @@ class Visibility final : public FramePipeline {
                ctx_.globals.nearest().handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)
         .image(set_, 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, r.image("hdr").view(), VK_NULL_HANDLE,
                VK_IMAGE_LAYOUT_GENERAL)
+        .buffer(set_, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r.buffer(kTileArgs).handle())
+        .buffer(set_, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r.buffer(kTiles).handle())
         .commit(ctx_.gpu.device());
   }
 
@@ -169,9 +205,27 @@ class Visibility final : public FramePipeline {
                                {w, h, {kIdFormat}, ctx_.depth_format, D::kReject});
   }
 
-  // One dispatch per material in use, its textures bound as set 1 (the resolve shades the
-  // pixels of that material only; the first also writes the empty ones). The dispatches
-  // write disjoint pixels: no barrier between them.
+  // Zeroes every slot's tile count (y = z = 1), then classifies the tiles.
+  void record_classify(PassContext& pass) {
+    const VkCommandBuffer c = pass.cmd();
+    const std::vector<glm::uvec4> zero(materials_.size(), glm::uvec4(0, 1, 1, 0));
+    if (!zero.empty())  // a scene without draws: only the empty pixels to write
+      vkCmdUpdateBuffer(c, ctx_.resources.buffer(kTileArgs).handle(), 0,
+                        zero.size() * sizeof(glm::uvec4), zero.data());
+    pass.use(kTileArgs, kStorageRead | kStorageWrite, kComputeShader);
+    const VkPipelineLayout layout = layout_.handle();
+    bind_shading_sets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout, ctx_.globals,
+                      ctx_.shading_sets(set_));
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, classify_.handle());
+    PushConstants push{};
+    push.pad = packing_.triangle_bits;
+    vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    vkCmdDispatch(c, (ctx_.width() + 7) / 8, (ctx_.height() + 7) / 8, 1);
+  }
+
+  // One indirect dispatch per material in use over the tiles that show it, its textures
+  // bound as set 1 (the resolve shades that material's pixels only). The dispatches write
+  // disjoint pixels: no barrier between them.
   void record_resolve(PassContext& pass) {
     const VkCommandBuffer c = pass.cmd();
     const VkPipelineLayout layout = layout_.handle();
@@ -180,15 +234,16 @@ class Visibility final : public FramePipeline {
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
     PushConstants push{};
     push.pad = packing_.triangle_bits;
-    push.view_index = 1;
-    for (const int m : materials_) {
+    const VkBuffer args = ctx_.resources.buffer(kTileArgs).handle();
+    for (size_t slot = 0; slot < materials_.size(); ++slot) {
+      const int m = materials_[slot];
       const VkDescriptorSet material = ctx_.globals.material_set(m);
       vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout, kMaterialSet, 1, &material,
                               0, nullptr);
       push.material = m;
+      push.light_index = static_cast<int>(slot);
       vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-      vkCmdDispatch(c, (ctx_.width() + 7) / 8, (ctx_.height() + 7) / 8, 1);
-      push.view_index = 0;
+      vkCmdDispatchIndirect(c, args, slot * sizeof(glm::uvec4));
     }
   }
 
@@ -199,7 +254,7 @@ class Visibility final : public FramePipeline {
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
   gpu::Buffer draws_;
-  gpu::Pipeline raster_, raster_count_, resolve_;
+  gpu::Pipeline raster_, raster_count_, classify_, resolve_;
 };
 
 }  // namespace
