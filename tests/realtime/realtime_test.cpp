@@ -693,6 +693,31 @@ TEST(VisibilityPacking, BitsAndOverflow) {
   }
 }
 
+// The tile classification holds 2048 materials in use (64 × 32 bits of shared memory in
+// visibility_classify.comp): a scene whose draws use more is refused naming the count.
+TEST_F(RealtimeTest, VisibilityRefusesMoreMaterialsThanTheClassificationHolds) {
+  Scene scene = test::cornell_point_light();
+  const size_t base = scene.materials.size();
+  for (int k = 0; k < 2049; ++k) {
+    scene.materials.push_back(scene.materials[0]);
+    const float x = 0.001f * static_cast<float>(k);
+    test::add_quad(scene, {x, 0.5f, 0.1f}, {x + 0.0005f, 0.5f, 0.1f}, {x + 0.0005f, 0.6f, 0.1f},
+                   {x, 0.6f, 0.1f}, static_cast<int>(base) + k);
+  }
+  RenderSettings o;
+  o.width = o.height = 16;
+  o.pipeline = "visibility";
+  o.shadows = "none";
+  try {
+    Renderer r(context(), scene, o);
+    ADD_FAILURE() << "2049 + materials accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("materials (the tile classification holds 2048)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // Stencil volumes add each light over a G-buffer or a second scene draw: the visibility
 // pipeline refuses them with one line.
 TEST_F(RealtimeTest, VisibilityRefusesStencilVolumes) {
