@@ -26,17 +26,12 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["validation_messages"] == 0, "validation messages in illum-bench raster"
 assert d["copy"]["gb_per_s"] > 0, "no copy bandwidth"
-assert d["raster_bounds"] and all(b["median_ms"] > 0 for b in d["raster_bounds"]), d["raster_bounds"]
+assert d["raster_bounds"] and all(b["ms_per_layer"] >= 0 for b in d["raster_bounds"]), d["raster_bounds"]
 keys = [b["key"] for b in d["raster_bounds"]]
-# The bounds the frames need: the depth pre-pass, the G-buffer's MRT set, the shadow maps at
-# their own size, and the stencil-written volumes.
-# The bounds the frames need: the depth pre-pass, the G-buffer's MRT set, the shadow maps at
-# their own size, the visibility ids, the stencil volumes' z-fail fragments and their
-# lighting. (On lavapipe every scene-draw fragment counts as rejected: bench/README.md.)
-for want in ["48x32 d32s8 reject", "48x32 rgba16f+rgba16f+rgba8+rgba16f+d32s8 reject",
-             "48x32 rgba16f+d32s8 reject", "64x64 r32f+d32 reject", "48x32 r32ui+d32s8 reject",
-             "48x32 d32s8 zfail", "48x32 rgba16f+d32s8 stencil-test blend"]:
-    assert any(k.replace("d24s8", "d32s8") == want for k in keys), (want, keys)
+# Measured bounds: only fragments that pass their tests are bounded (rejected ones are
+# listed); on lavapipe the scene draws' fragments all count as rejected (bench/README.md), so
+# the stencil-volume lighting's layer is the one raster configuration measured here.
+assert "48x32 rgba16f+d32s8 stencil-test blend" in [k.replace("d24s8", "d32s8") for k in keys], keys
 names = {}
 for f in d["frames"]:
     for p in f["passes"]:
@@ -46,6 +41,14 @@ for f in d["frames"]:
 for run, passes in names.items():
     got = {p["name"]: p for p in passes}
     assert run.startswith("visibility") or "depth_prepass" in got, (run, list(got))
+def listed(run, name, want):
+    got = [p for p in names[run] if p["name"] == name]
+    assert got and any(want in w.replace("d24s8", "d32s8") for w in got[0]["work"]), (run, name, want, got)
+listed("deferred/map", "depth_prepass", "48x32 d32s8 reject")
+listed("deferred/map", "gbuffer", "48x32 rgba16f+rgba16f+rgba8+rgba16f+d32s8 reject")
+listed("forward/map", "forward", "48x32 rgba16f+d32s8 reject")
+listed("forward/map", "shadow_maps", "64x64 r32f+d32 reject")
+listed("visibility/map", "visibility", "48x32 r32ui+d32s8 reject")
 vol = [p for p in names["deferred/volume"] if p["name"] == "stencil_volumes"]
 assert vol and any("zfail" in w for w in vol[0]["work"]), vol
 vis = {p["name"]: p for p in names["visibility/map"]}
