@@ -10,6 +10,15 @@
 #include "baked.glsl"
 #include "sh.glsl"
 
+// Texture sampling hooks: fragment shaders sample with the implicit LOD of their quads; a
+// compute pass (visibility_resolve.comp) defines these first to pass explicit gradients.
+#ifndef SAMPLE_MATERIAL
+#define SAMPLE_MATERIAL(map, uv) texture(map, uv)
+#endif
+#ifndef SAMPLE_LIGHTMAP
+#define SAMPLE_LIGHTMAP(uvw) texture(lightmap, uvw)
+#endif
+
 struct Surface {
   vec3 p;
   vec3 n;        // shading normal (normal-mapped), unit
@@ -30,20 +39,20 @@ Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4
   s.p = p;
   s.ng = normalize(front ? normal : -normal);
   s.albedo = m.albedo.rgb;
-  if (m.textures.x >= 0) s.albedo *= texture(albedo_map, uv.xy).rgb;
+  if (m.textures.x >= 0) s.albedo *= SAMPLE_MATERIAL(albedo_map, uv.xy).rgb;
   s.specular = m.specular.rgb;
-  if (m.textures.w >= 0) s.specular *= texture(specular_map, uv.xy).rgb;
+  if (m.textures.w >= 0) s.specular *= SAMPLE_MATERIAL(specular_map, uv.xy).rgb;
   s.exponent = m.specular.w;
   s.type = m.info.x;
   s.emission = m.emission.rgb;
-  if (m.textures.z >= 0) s.emission *= texture(emission_map, uv.xy).rgb;
+  if (m.textures.z >= 0) s.emission *= SAMPLE_MATERIAL(emission_map, uv.xy).rgb;
   s.n = s.ng;
   s.n_z = 1.0;
   s.n_ts = vec3(0.0, 0.0, 1.0);
   if (m.textures.y >= 0 && dot(tangent.xyz, tangent.xyz) > 0.0) {
     vec3 t = normalize(tangent.xyz - s.ng * dot(s.ng, tangent.xyz));
     vec3 b = cross(s.ng, t) * tangent.w;
-    vec3 tn = texture(normal_map, uv.xy).xyz * 2.0 - 1.0;
+    vec3 tn = SAMPLE_MATERIAL(normal_map, uv.xy).xyz * 2.0 - 1.0;
     tn.xy *= m.emission.w;
     tn = normalize(tn);
     s.n_z = max(tn.z, 0.0);
@@ -103,8 +112,9 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
 // scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
 // weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (sh.glsl,
 // the normal as the pole) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
-vec3 ambient_term(Surface s) {
-  int cube = push.view_index < baked.info.z ? draw_cubes[push.view_index] : 0;
+// `draw`: the draw's index (colour passes push it as push.view_index), for its ambient cube.
+vec3 ambient_term_for(Surface s, int draw) {
+  int cube = draw < baked.info.z ? draw_cubes[draw] : 0;
   if (cube > 0) {  // a probed (dynamic) object: ambient cube along the normal
     int base = 6 * (cube - 1);
     vec3 n2 = s.n * s.n;
@@ -117,7 +127,7 @@ vec3 ambient_term(Surface s) {
   if (kind == 0) return s.albedo * frame.ambient.rgb;
   float k = baked.intensity.x;
   vec3 uv = vec3(s.uv1, 0.0);
-  if (kind == 1) return s.albedo * k * texture(lightmap, uv).rgb * s.n_z;
+  if (kind == 1) return s.albedo * k * SAMPLE_LIGHTMAP(uv).rgb * s.n_z;
   vec3 n = s.n_ts;
   if (kind == 2) {
     const vec3 b0 = vec3(0.816496581, 0.0, 0.577350269);
@@ -126,16 +136,20 @@ vec3 ambient_term(Surface s) {
     vec3 w = max(vec3(dot(n, b0), dot(n, b1), dot(n, b2)), 0.0);
     w *= w;
     w /= max(w.x + w.y + w.z, 1e-6);
-    vec3 l = w.x * texture(lightmap, vec3(s.uv1, 0.0)).rgb + w.y * texture(lightmap, vec3(s.uv1, 1.0)).rgb +
-             w.z * texture(lightmap, vec3(s.uv1, 2.0)).rgb;
+    vec3 l = w.x * SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb + w.y * SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb +
+             w.z * SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;
     return s.albedo * k * l;
   }
-  vec3 c0 = texture(lightmap, vec3(s.uv1, 0.0)).rgb;
-  vec3 c1 = texture(lightmap, vec3(s.uv1, 1.0)).rgb;  // y
-  vec3 c2 = texture(lightmap, vec3(s.uv1, 2.0)).rgb;  // z
-  vec3 c3 = texture(lightmap, vec3(s.uv1, 3.0)).rgb;  // x
+  vec3 c0 = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;
+  vec3 c1 = SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb;  // y
+  vec3 c2 = SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;  // z
+  vec3 c3 = SAMPLE_LIGHTMAP(vec3(s.uv1, 3.0)).rgb;  // x
   vec3 e = sh_irradiance_over_pi_l1(c0, c1, c2, c3, n);
   return s.albedo * k * max(e, 0.0);
+}
+
+vec3 ambient_term(Surface s) {
+  return ambient_term_for(s, push.view_index);
 }
 
 #endif

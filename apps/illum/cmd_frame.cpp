@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "illum/core/log.h"
 #include "illum/gpu/context.h"
+#include "illum/gpu/gpu_image.h"
 #include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/technique_registry.h"
@@ -125,6 +126,29 @@ void run_frame(const FrameArgs& args) {
     else
       write_image(args.output, renderer.ldr());
   }
+  // With --json, one more (untimed) frame after the image is written: the work of each pass
+  // (its raster fills, stencil overdraw counted by occlusion queries, compute bytes), which
+  // `illum-bench raster` sets against the device's bounds.
+  std::map<std::pair<std::string, int>, nlohmann::json> work;
+  if (!args.json.empty())
+    for (const gpu::PassTime& t : renderer.measure_work(camera)) {
+      if (t.fills.empty() && t.bytes <= 0.0 && t.triangles <= 0.0) continue;
+      nlohmann::json fills = nlohmann::json::array();
+      for (const auto& [f, count] : t.fills) {
+        nlohmann::json colors = nlohmann::json::array();
+        for (VkFormat c : f.colors)
+          colors.push_back({{"format", c}, {"name", gpu::format_name(c)}});
+        fills.push_back({{"key", f.key()},
+                         {"width", f.width},
+                         {"height", f.height},
+                         {"colors", colors},
+                         {"depth_format", f.depth_format},
+                         {"depth", static_cast<int>(f.depth)},
+                         {"blend", f.blend},
+                         {"count", count}});
+      }
+      work[{t.name, t.depth}] = {{"fills", fills}, {"bytes", t.bytes}, {"triangles", t.triangles}};
+    }
 
   std::printf(
       "illum frame: %s, %dx%d, %s, shadows %s, device '%s'%s, %d frame(s) after %d warm-up\n",
@@ -145,6 +169,7 @@ void run_frame(const FrameArgs& args) {
                       {"runs", v.size()},
                       {"min_ms", *std::min_element(v.begin(), v.end())},
                       {"max_ms", *std::max_element(v.begin(), v.end())}});
+    if (const auto w = work.find({name, d}); w != work.end()) passes.back()["work"] = w->second;
   }
   std::printf(
       "  %-16s %9.4f ms (GPU, sum of passes)\n  %-16s %9.4f ms (CPU wall, submit to fence)\n",
@@ -158,6 +183,7 @@ void run_frame(const FrameArgs& args) {
                           {"techniques", settings.active_techniques()},
                           {"tonemap", settings.get<std::string>("tonemap.operator")},
                           {"device", context.device_name()},
+                          {"driver", context.driver()},
                           {"frames", args.frames},
                           {"warmup", args.warmup},
                           {"triangles", scene.triangle_count()},

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <random>
 
+#include "illum/core/error.h"
 #include "illum/gpu/buffer.h"
 #include "illum/gpu/context.h"
 #include "illum/gpu/descriptors.h"
@@ -85,6 +86,44 @@ TEST_F(GpuTest, AllocatorReusesAndMergesFreedRanges) {
   Buffer big(*context_, Allocator::kBlockSize / 2, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
              MemoryUsage::kDevice);
   EXPECT_EQ(a.stats().dedicated, start.dedicated + 1);
+}
+
+// Render targets and textures go to DEVICE_LOCAL memory or nowhere (issue 9 (c)): on a
+// device with host memory only for the image the choice throws naming the image and the
+// device; a software device accepts host memory explicitly; DEVICE_LOCAL wins whenever the
+// image may use it, whatever the type order.
+TEST(ImageMemory, DeviceLocalOrAClearErrorUnlessSoftware) {
+  VkPhysicalDeviceMemoryProperties p{};
+  p.memoryTypeCount = 3;
+  p.memoryTypes[0].propertyFlags =
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  p.memoryTypes[1].propertyFlags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+  p.memoryTypes[2].propertyFlags = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  EXPECT_EQ(image_memory_type(p, 0b111, false, "image 8x8 rgba8", "gpu"), 2u);
+  EXPECT_EQ(image_memory_type(p, 0b111, true, "image 8x8 rgba8", "cpu"), 2u);
+  try {
+    image_memory_type(p, 0b011, false, "image 1920x1080 rgba16f", "Some GPU");
+    ADD_FAILURE() << "host memory accepted for a render target";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("image 1920x1080 rgba16f"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'Some GPU'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("DEVICE_LOCAL"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(image_memory_type(p, 0b010, true, "image 8x8 rgba8", "llvmpipe"), 1u);
+}
+
+// On this device a render target lands in DEVICE_LOCAL memory (lavapipe flags its one
+// memory type so), or the device is a software one.
+TEST_F(GpuTest, RenderTargetIsInDeviceLocalMemory) {
+  ImageDesc d;
+  d.width = 16;
+  d.height = 8;
+  d.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+  GpuImage image(*context_, d);
+  const VkMemoryPropertyFlags flags =
+      context_->allocator().properties().memoryTypes[image.memory_type()].propertyFlags;
+  EXPECT_TRUE((flags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) || context_->is_software());
 }
 
 TEST_F(GpuTest, ComputeRoundTripThroughStagingBuffers) {

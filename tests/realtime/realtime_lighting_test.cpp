@@ -1,9 +1,9 @@
-// The real-time forward path's lighting, pixel by pixel, against a CPU reference that shares
-// no code with the shaders: the offline renderers' own pieces (illum::RayTracer for the
-// visible point, its normal-mapped shading normal and uv, illum::Bsdf for Lambert / Phong /
-// Blinn, LightSampler::sample_li for point, spot and sun radiometry, surface_emission for
-// textured emission, texture_color's bilinear lookups) plus, written here from scene.h's
-// definition, the real-time-only range window max(1 − (d/r)², 0).
+// The real-time forward path's lighting (and the visibility buffer's), pixel by pixel, against a
+// CPU reference that shares no code with the shaders: the offline renderers' own pieces
+// (illum::RayTracer for the visible point, its normal-mapped shading normal and uv, illum::Bsdf for
+// Lambert / Phong / Blinn, LightSampler::sample_li for point, spot and sun radiometry,
+// surface_emission for textured emission, texture_color's bilinear lookups) plus, written here from
+// scene.h's definition, the real-time-only range window max(1 − (d/r)², 0).
 //
 // The scene is one large floor filling the frame (no geometry edges, nothing to cast
 // shadows: the reference asserts that no shadow ray is blocked), seen from above at 64×64.
@@ -195,9 +195,10 @@ Reference cpu_reference(const Scene& scene, float texture_rel = 0.0f, float norm
   return ref;
 }
 
-Image render_forward(const Scene& scene) {
+Image render_pipeline(const Scene& scene, const std::string& pipeline) {
   RenderSettings o;
   o.width = o.height = kSize;
+  o.pipeline = pipeline;
   o.shadows = "none";  // nothing casts a shadow here (the reference checks it)
   o.disable("luminance");
   Renderer r(context(), scene, o);
@@ -239,11 +240,19 @@ Comparison check(const Scene& scene, const char* name, float texture_rel = 0.0f,
   EXPECT_EQ(ref.blocked, 0u) << name << ": the scene must not cast shadows";
   EXPECT_EQ(ref.below_shading_normal, 0u)
       << name << ": lights below the shading normal shade differently by design";
-  const Comparison c = compare(render_forward(scene), ref);
-  std::printf(
-      "%-28s %zu pixels compared (%zu lit), %zu outside their tolerance, worst %.3f of it\n", name,
-      c.compared, c.lit, c.outside, c.worst);
-  EXPECT_EQ(c.outside, 0u) << name << ": worst error " << c.worst << " × the tolerance";
+  // The visibility buffer shades with the same functions from the triangle it rebuilds, its
+  // texture LOD from analytic derivatives (here every texture is magnified: level 0 in both,
+  // so the same filter bound holds).
+  Comparison c;
+  for (const std::string pipeline : {"forward", "visibility"}) {
+    c = compare(render_pipeline(scene, pipeline), ref);
+    std::printf(
+        "%-28s %-10s %zu pixels compared (%zu lit), %zu outside their tolerance, worst %.3f of "
+        "it\n",
+        name, pipeline.c_str(), c.compared, c.lit, c.outside, c.worst);
+    EXPECT_EQ(c.outside, 0u) << name << " (" << pipeline << "): worst error " << c.worst
+                             << " × the tolerance";
+  }
   return c;
 }
 

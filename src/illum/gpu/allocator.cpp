@@ -55,11 +55,31 @@ VkDeviceMemory Allocator::allocate_memory(uint32_t type, VkDeviceSize size, void
   return memory;
 }
 
+uint32_t image_memory_type(const VkPhysicalDeviceMemoryProperties& properties, uint32_t type_bits,
+                           bool software_device, const std::string& what,
+                           const std::string& device) {
+  int any = -1;
+  for (uint32_t i = 0; i < properties.memoryTypeCount; ++i) {
+    if (!(type_bits & (1u << i))) continue;
+    if (properties.memoryTypes[i].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) return i;
+    if (any < 0) any = static_cast<int>(i);
+  }
+  if (software_device && any >= 0) return static_cast<uint32_t>(any);
+  throw Error(fmt::format(
+      "{}: device '{}' offers no DEVICE_LOCAL memory for it (render targets and textures are "
+      "not placed in host memory)",
+      what, device));
+}
+
 Allocation Allocator::allocate(const VkMemoryRequirements& req, VkMemoryPropertyFlags required,
                                VkMemoryPropertyFlags preferred) {
   int type = find_memory_type(req.memoryTypeBits, required | preferred);
   if (type < 0) type = find_memory_type(req.memoryTypeBits, required);
   if (type < 0) throw Error("no GPU memory type fits the resource");
+  return allocate_type(req, static_cast<uint32_t>(type));
+}
+
+Allocation Allocator::allocate_type(const VkMemoryRequirements& req, uint32_t type) {
   std::lock_guard lock(mutex_);
   Allocation a;
   a.memory_type = static_cast<uint32_t>(type);

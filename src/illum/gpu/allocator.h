@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -31,6 +32,15 @@ struct AllocatorStats {
   VkDeviceSize used_bytes = 0;      // handed out to resources
 };
 
+// The memory type for an image (textures, render targets): a DEVICE_LOCAL one, never a
+// silent fall-back to host memory, which would put every pass that touches the image on
+// the bus. A software device (lavapipe: the "device" is the CPU, all its memory is host
+// memory) is accepted explicitly with `software_device`: then any type fits, DEVICE_LOCAL
+// preferred. Throws illum::Error naming `what` and `device` when no type fits.
+uint32_t image_memory_type(const VkPhysicalDeviceMemoryProperties& properties, uint32_t type_bits,
+                           bool software_device, const std::string& what,
+                           const std::string& device);
+
 class Allocator {
  public:
   static constexpr VkDeviceSize kBlockSize = VkDeviceSize(64) << 20;
@@ -44,10 +54,13 @@ class Allocator {
   // illum::Error when no memory type fits or the device is out of memory.
   Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
                       VkMemoryPropertyFlags preferred = 0);
+  // Allocates from memory type `type` (image_memory_type's choice).
+  Allocation allocate_type(const VkMemoryRequirements& requirements, uint32_t type);
   void free(Allocation& allocation);
 
   AllocatorStats stats() const;
   bool is_host_coherent(uint32_t memory_type) const;
+  const VkPhysicalDeviceMemoryProperties& properties() const { return properties_; }
 
  private:
   struct Range {

@@ -262,6 +262,11 @@ void Context::pick_device(const ContextOptions& options) {
 }
 
 void Context::create_device(bool swapchain) {
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  props.pNext = &driver;
+  vkGetPhysicalDeviceProperties2(physical_, &props);
+  driver_ = fmt::format("{} {}", driver.driverName, driver.driverInfo);
   VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   have12.pNext = &have13;
@@ -292,6 +297,10 @@ void Context::create_device(bool swapchain) {
   features.features.depthClamp = have.features.depthClamp;
   depth_clamp_ = have.features.depthClamp == VK_TRUE;
   features.features.samplerAnisotropy = have.features.samplerAnisotropy;
+  features.features.geometryShader = have.features.geometryShader;
+  primitive_id_ = have.features.geometryShader == VK_TRUE;
+  features.features.occlusionQueryPrecise = have.features.occlusionQueryPrecise;
+  occlusion_query_precise_ = have.features.occlusionQueryPrecise == VK_TRUE;
   if (!have.features.imageCubeArray)
     throw Error(fmt::format(
         "Vulkan device '{}' lacks imageCubeArray (needed for point-light shadows)", device_name_));

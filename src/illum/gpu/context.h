@@ -45,10 +45,18 @@ class Context {
   Allocator& allocator() { return *allocator_; }
 
   const std::string& device_name() const { return device_name_; }
+  // The driver as VkPhysicalDeviceDriverProperties gives it: "NVIDIA 580.159.04",
+  // "llvmpipe Mesa 22.3.6 (LLVM 15.0.6)" (name, then info).
+  const std::string& driver() const { return driver_; }
   bool is_software() const { return device_type_ == VK_PHYSICAL_DEVICE_TYPE_CPU; }
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
   bool descriptor_indexing() const { return descriptor_indexing_; }
   bool depth_clamp() const { return depth_clamp_; }
+  // gl_PrimitiveID in fragment shaders (the visibility buffer's triangle ids) needs the
+  // geometryShader feature, enabled where the device has it.
+  bool primitive_id() const { return primitive_id_; }
+  // Occlusion queries count exact samples (counting frames of illum-bench raster).
+  bool occlusion_query_precise() const { return occlusion_query_precise_; }
   bool timestamps() const { return timestamp_period_ns_ > 0.0f; }
   float timestamp_period_ns() const { return timestamp_period_ns_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -80,10 +88,13 @@ class Context {
   VkFence immediate_fence_ = VK_NULL_HANDLE;
   std::unique_ptr<Allocator> allocator_;
   std::string device_name_;
+  std::string driver_;
   VkPhysicalDeviceType device_type_ = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   VkPhysicalDeviceLimits limits_{};
   bool descriptor_indexing_ = false;
   bool depth_clamp_ = false;
+  bool primitive_id_ = false;
+  bool occlusion_query_precise_ = false;
   float timestamp_period_ns_ = 0.0f;
   mutable std::mutex messages_mutex_;
   std::vector<std::string> messages_;

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <utility>
 
+#include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
 
 #include "illum/core/color.h"
@@ -11,6 +12,31 @@
 #include "illum/gpu/vk_check.h"
 
 namespace illum::gpu {
+
+const char* format_name(VkFormat f) {
+  switch (f) {
+    case VK_FORMAT_R8G8B8A8_UNORM:
+      return "rgba8";
+    case VK_FORMAT_R8G8B8A8_SRGB:
+      return "srgba8";
+    case VK_FORMAT_R16G16B16A16_SFLOAT:
+      return "rgba16f";
+    case VK_FORMAT_R32_SFLOAT:
+      return "r32f";
+    case VK_FORMAT_R32G32_SFLOAT:
+      return "rg32f";
+    case VK_FORMAT_R32_UINT:
+      return "r32ui";
+    case VK_FORMAT_D32_SFLOAT:
+      return "d32";
+    case VK_FORMAT_D32_SFLOAT_S8_UINT:
+      return "d32s8";
+    case VK_FORMAT_D24_UNORM_S8_UINT:
+      return "d24s8";
+    default:
+      return "?";
+  }
+}
 
 bool is_depth_format(VkFormat f) {
   return f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D32_SFLOAT_S8_UINT ||
@@ -26,6 +52,7 @@ uint32_t format_bytes(VkFormat f) {
     case VK_FORMAT_R8G8B8A8_UNORM:
     case VK_FORMAT_R8G8B8A8_SRGB:
     case VK_FORMAT_R32_SFLOAT:
+    case VK_FORMAT_R32_UINT:
     case VK_FORMAT_D32_SFLOAT:
       return 4;
     case VK_FORMAT_R16G16B16A16_SFLOAT:
@@ -73,7 +100,11 @@ GpuImage::GpuImage(Context& context, const ImageDesc& desc) : context_(&context)
   try {
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(context.device(), image_, &req);
-    allocation_ = context.allocator().allocate(req, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    const uint32_t type = image_memory_type(
+        context.allocator().properties(), req.memoryTypeBits, context.is_software(),
+        fmt::format("image {}x{} {}", desc.width, desc.height, format_name(desc.format)),
+        context.device_name());
+    allocation_ = context.allocator().allocate_type(req, type);
     ILLUM_VK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = image_;

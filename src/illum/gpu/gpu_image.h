@@ -26,6 +26,8 @@ struct ImageDesc {
 bool is_depth_format(VkFormat format);
 bool has_stencil(VkFormat format);
 uint32_t format_bytes(VkFormat format);  // per texel, for the colour formats illum uses
+// "rgba16f", "d32s8", ...: the formats illum renders to, short ("?" for others).
+const char* format_name(VkFormat format);
 
 // One synchronization2 image barrier over `range` (layout change plus execution and memory
 // dependency). GpuImage::transition uses it with the tracked state; swapchain images, which
@@ -50,6 +52,8 @@ class GpuImage {
   // One layer, all aspects: the view to render into (cube faces, depth-stencil targets).
   VkImageView layer_view(uint32_t layer) const { return layer_views_.at(layer); }
   const ImageDesc& desc() const { return desc_; }
+  // The memory type it was placed in (allocator.h: image_memory_type's choice).
+  uint32_t memory_type() const { return allocation_.memory_type; }
   VkExtent2D extent() const { return {desc_.width, desc_.height}; }
   VkImageAspectFlags aspect() const;
   VkImageLayout layout() const { return layout_; }

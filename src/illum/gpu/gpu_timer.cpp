@@ -2,9 +2,30 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "illum/gpu/gpu_image.h"
 #include "illum/gpu/vk_check.h"
 
 namespace illum::gpu {
+
+std::string RasterFill::key() const {
+  std::vector<std::string> formats;
+  for (VkFormat c : colors) formats.emplace_back(format_name(c));
+  if (depth != Depth::kNone) formats.emplace_back(format_name(depth_format));
+  const char* how = depth == Depth::kWrite          ? " write"
+                    : depth == Depth::kTest         ? " test"
+                    : depth == Depth::kStencil      ? " stencil"
+                    : depth == Depth::kStencilTest  ? " stencil-test"
+                    : depth == Depth::kReject       ? " reject"
+                    : depth == Depth::kStencilZFail ? " zfail"
+                                                    : "";
+  return fmt::format(
+      "{}x{} {}{}{}", width, height,
+      formats.empty() ? std::string("none") : fmt::format("{}", fmt::join(formats, "+")), how,
+      blend ? " blend" : "");
+}
 
 GpuTimer::GpuTimer(Context& context, uint32_t max_scopes)
     : context_(&context), max_scopes_(max_scopes) {
@@ -13,6 +34,7 @@ GpuTimer::GpuTimer(Context& context, uint32_t max_scopes)
 
 GpuTimer::~GpuTimer() {
   if (pool_) vkDestroyQueryPool(context_->device(), pool_, nullptr);
+  if (occlusion_) vkDestroyQueryPool(context_->device(), occlusion_, nullptr);
 }
 
 void GpuTimer::create_pool() {
@@ -36,8 +58,14 @@ void GpuTimer::reserve(uint32_t scopes) {
 void GpuTimer::reset(VkCommandBuffer cmd) {
   names_.clear();
   depths_.clear();
+  stack_.clear();
+  fills_.clear();
+  bytes_.clear();
+  triangles_.clear();
+  counts_.clear();
   open_ = 0;
   if (pool_) vkCmdResetQueryPool(cmd, pool_, 0, 2 * max_scopes_);
+  if (counting_ && occlusion_) vkCmdResetQueryPool(cmd, occlusion_, 0, occlusion_capacity_);
 }
 
 uint32_t GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
@@ -46,14 +74,63 @@ uint32_t GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
   const uint32_t scope = static_cast<uint32_t>(names_.size());
   names_.push_back(name);
   depths_.push_back(open_++);
+  fills_.emplace_back();
+  bytes_.push_back(0.0);
+  triangles_.push_back(0.0);
+  stack_.push_back(scope);
   if (pool_) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, 2 * scope);
   return scope;
 }
 
 void GpuTimer::end(VkCommandBuffer cmd, uint32_t scope) {
-  ILLUM_CHECK(open_ > 0 && scope < names_.size(), "timer scope ended twice");
+  ILLUM_CHECK(open_ > 0 && scope < names_.size() && !stack_.empty() && stack_.back() == scope,
+              "timer scope ended twice or out of order");
   --open_;
+  stack_.pop_back();
   if (pool_) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, 2 * scope + 1);
+}
+
+void GpuTimer::note_fill(const RasterFill& fill, double count) {
+  if (!stack_.empty()) fills_[stack_.back()].emplace_back(fill, count);
+}
+
+void GpuTimer::note_bytes(double bytes) {
+  if (!stack_.empty()) bytes_[stack_.back()] += bytes;
+}
+
+void GpuTimer::note_triangles(double triangles) {
+  if (!stack_.empty()) triangles_[stack_.back()] += triangles;
+}
+
+void GpuTimer::set_counting(bool on) {
+  counting_ = on;
+  if (!on || occlusion_) return;
+  occlusion_capacity_ = 256;
+  VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  info.queryType = VK_QUERY_TYPE_OCCLUSION;
+  info.queryCount = occlusion_capacity_;
+  ILLUM_VK(vkCreateQueryPool(context_->device(), &info, nullptr, &occlusion_));
+}
+
+uint32_t GpuTimer::begin_count(VkCommandBuffer cmd) {
+  if (!counting()) return 0;
+  ILLUM_CHECK(counts_.size() < occlusion_capacity_, "more than {} counted draws in one frame",
+              occlusion_capacity_);
+  const uint32_t query = static_cast<uint32_t>(counts_.size());
+  counts_.push_back({stack_.empty() ? ~0u : stack_.back(), {}});
+  vkCmdBeginQuery(cmd, occlusion_, query,
+                  context_->occlusion_query_precise() ? VK_QUERY_CONTROL_PRECISE_BIT : 0);
+  return query;
+}
+
+void GpuTimer::end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample,
+                         int minus) {
+  if (!counting()) return;
+  ILLUM_CHECK(query < counts_.size() && minus < static_cast<int>(query),
+              "end_count without begin_count");
+  counts_[query].fill = per_sample;
+  counts_[query].minus = minus;
+  vkCmdEndQuery(cmd, occlusion_, query);
 }
 
 std::vector<PassTime> GpuTimer::resolve() const {
@@ -65,7 +142,23 @@ std::vector<PassTime> GpuTimer::resolve() const {
                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   for (size_t i = 0; i < names_.size(); ++i) {
     const double ticks = static_cast<double>(stamps[2 * i + 1] - stamps[2 * i]);
-    out.push_back({names_[i], ticks * context_->timestamp_period_ns() * 1e-6, depths_[i]});
+    out.push_back({names_[i], ticks * context_->timestamp_period_ns() * 1e-6, depths_[i], fills_[i],
+                   bytes_[i], triangles_[i]});
+  }
+  if (counting() && !counts_.empty()) {
+    std::vector<uint64_t> samples(counts_.size());
+    ILLUM_VK(vkGetQueryPoolResults(
+        context_->device(), occlusion_, 0, static_cast<uint32_t>(samples.size()),
+        samples.size() * sizeof(uint64_t), samples.data(), sizeof(uint64_t),
+        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    for (size_t q = 0; q < counts_.size(); ++q) {
+      const Count& c = counts_[q];
+      if (c.scope >= out.size()) continue;
+      const double area = static_cast<double>(c.fill.width) * c.fill.height;
+      const double less = c.minus >= 0 ? static_cast<double>(samples[c.minus]) : 0.0;
+      const double n = std::max(0.0, static_cast<double>(samples[q]) - less);
+      out[c.scope].fills.emplace_back(c.fill, area > 0.0 ? n / area : 0.0);
+    }
   }
   return out;
 }

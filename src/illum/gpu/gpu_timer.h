@@ -3,9 +3,18 @@
 // nest (a pass's per-light steps inside the pass): each PassTime says how deep it sits, so
 // totals add up depth 0 only. reserve() grows the query pool before a frame that needs
 // more scopes than it holds.
+//
+// A scope also carries the work it did, so its time can be judged against the device's
+// bounds (illum-bench raster): raster fills (a target configuration, what each fragment
+// does, and how many times the target's area), triangles, and for compute work the bytes
+// of what it declares. In a counting frame (set_counting), draws between begin_count() and
+// end_count() are counted by a precise occlusion query and become fills of the scope
+// (fragments that passed a pass's tests, the rejected rest, stencil volumes' samples).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -14,10 +23,36 @@
 
 namespace illum::gpu {
 
+// The attachments a raster scope fills and how: what a trivial full-screen pass must write
+// to be its bound (illum-bench raster draws exactly this, at this size).
+struct RasterFill {
+  // What each fragment does. kWrite: depth tested, passes, written; kTest: tested, passes,
+  // not written; kReject: tested and rejected (overdraw behind what is drawn); kStencil: the
+  // stencil written, depth untested; kStencilTest: the stencil tested only; kStencilZFail:
+  // depth tested and failing, the stencil written on the failure (z-fail shadow volumes).
+  enum class Depth { kNone, kWrite, kTest, kStencil, kStencilTest, kReject, kStencilZFail };
+  uint32_t width = 0, height = 0;
+  std::vector<VkFormat> colors;  // written (added with blending when `blend`)
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;
+  Depth depth = Depth::kNone;
+  bool blend = false;
+
+  bool operator==(const RasterFill& other) const = default;
+  // "1920x1080 rgba16f+d32s8 test blend": the configuration as one line.
+  std::string key() const;
+};
+
 struct PassTime {
   std::string name;
   double ms = 0.0;
   int depth = 0;  // 0: a pass; 1: a step inside the enclosing depth-0 scope; ...
+  // The work recorded inside this scope itself (nested scopes carry their own): raster
+  // fills, one entry per rendering (a count of full-target equivalents: 1 for a view drawn
+  // over its whole target, the scissored fraction, or the counted overdraw), and bytes of
+  // compute work.
+  std::vector<std::pair<RasterFill, double>> fills;
+  double bytes = 0.0;
+  double triangles = 0.0;  // triangles submitted (scene draws: every view's)
 };
 
 class GpuTimer {
@@ -37,6 +72,24 @@ class GpuTimer {
   void end(VkCommandBuffer cmd, uint32_t scope);
   std::vector<PassTime> resolve() const;  // call after the frame has completed
 
+  // Work of the innermost open scope (ignored outside any scope).
+  void note_fill(const RasterFill& fill, double count = 1.0);
+  void note_bytes(double bytes);
+  void note_triangles(double triangles);
+  // Counting frames: from the next reset() on, begin_count/end_count record occlusion queries
+  // (precise where the device has occlusionQueryPrecise); otherwise they record nothing.
+  void set_counting(bool on);
+  bool counting() const { return counting_ && occlusion_ != VK_NULL_HANDLE; }
+  // Occlusion queries around depth-tested draws: not on a software device (lavapipe crashes
+  // on them in frames that also build stencil shadow volumes on the GPU).
+  bool counts_tested() const { return counting() && !context_->is_software(); }
+  // Inside a rendering scope: the samples of the draws recorded until end_count() become
+  // fills of `per_sample` (count = samples / (width × height)) for the innermost open scope;
+  // with `minus` (an earlier query), its samples are subtracted (fragments rasterized minus
+  // those that passed: the rejected ones).
+  uint32_t begin_count(VkCommandBuffer cmd);
+  void end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample, int minus = -1);
+
  private:
   void create_pool();
 
@@ -45,7 +98,21 @@ class GpuTimer {
   uint32_t max_scopes_;
   std::vector<std::string> names_;
   std::vector<int> depths_;
-  int open_ = 0;  // scopes begun and not yet ended
+  std::vector<uint32_t> stack_;                                    // open scopes, innermost last
+  int open_ = 0;                                                   // scopes begun and not yet ended
+  std::vector<std::vector<std::pair<RasterFill, double>>> fills_;  // per scope
+  std::vector<double> bytes_;                                      // per scope
+  std::vector<double> triangles_;                                  // per scope
+  // Counting frames.
+  bool counting_ = false;
+  VkQueryPool occlusion_ = VK_NULL_HANDLE;
+  uint32_t occlusion_capacity_ = 0;
+  struct Count {
+    uint32_t scope;
+    RasterFill fill;
+    int minus = -1;
+  };
+  std::vector<Count> counts_;
 };
 
 }  // namespace illum::gpu

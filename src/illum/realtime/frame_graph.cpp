@@ -224,6 +224,30 @@ void PassContext::use(const std::string& resource, Uses uses, VkPipelineStageFla
   graph_->apply(resource, frame_, cmd_, uses, shaders);
 }
 
+void PassContext::fill(const gpu::RasterFill& f, double count) {
+  if (timer_) timer_->note_fill(f, count);
+}
+
+bool PassContext::counting() const {
+  return timer_ && timer_->counting();
+}
+
+uint32_t PassContext::begin_count() {
+  return counting() ? timer_->begin_count(cmd_) : 0;
+}
+
+void PassContext::end_count(uint32_t query, const gpu::RasterFill& per_sample, int minus) {
+  if (counting()) timer_->end_count(cmd_, query, per_sample, minus);
+}
+
+bool PassContext::counts_tested() const {
+  return counting() && timer_->counts_tested();
+}
+
+void PassContext::triangles(double count) {
+  if (timer_) timer_->note_triangles(count);
+}
+
 bool PassContext::has_history(const std::string& resource) const {
   return graph_->copy_of(resource + kPrevious, frame_).written_frame >= 0;
 }
@@ -468,6 +492,29 @@ void FrameGraph::apply(const std::string& name, uint64_t frame, VkCommandBuffer 
   barriers_.push_back(std::move(*b));
 }
 
+double FrameGraph::bytes_of(const PassDesc& pass, uint64_t frame) {
+  double bytes = 0.0;
+  for (const Access& a : pass.accesses) {
+    const auto l = find(a.resource);
+    if (!l) continue;
+    const Copy& c = copy_of(a.resource, frame);
+    double size = 0.0;
+    if (c.image) {
+      const gpu::ImageDesc& d = c.image->desc();
+      // Depth + stencil: 4 + 1 bytes a texel as stored at least.
+      const double texel = d.format == VK_FORMAT_D32_SFLOAT_S8_UINT ? 5.0
+                           : gpu::is_depth_format(d.format)         ? 4.0
+                                                                    : gpu::format_bytes(d.format);
+      size = static_cast<double>(d.width) * d.height * d.layers * texel;
+    } else if (c.buffer) {
+      size = static_cast<double>(c.buffer->size());
+    }
+    const int directions = ((a.uses & kReadUses) ? 1 : 0) + (writes(a.uses) ? 1 : 0);
+    bytes += size * directions;
+  }
+  return bytes;
+}
+
 uint32_t FrameGraph::timer_scopes() const {
   uint32_t n = 0;
   for (const Node& p : passes_)
@@ -515,6 +562,11 @@ std::vector<std::string> FrameGraph::execute(VkCommandBuffer cmd, uint64_t frame
       open_label = node.desc.timer;
       if (gpu_timer) open_scope = gpu_timer->begin(cmd, open_label);
     }
+    // Compute work (no attachments): the bytes of what it declares, for the bounds.
+    constexpr Uses kAttachments = kColorAttachment | kDepthAttachment | kDepthReadOnly;
+    const bool raster = std::any_of(node.desc.accesses.begin(), node.desc.accesses.end(),
+                                    [](const Access& a) { return (a.uses & kAttachments) != 0; });
+    if (gpu_timer && !raster) gpu_timer->note_bytes(bytes_of(node.desc, frame));
     // The first declared access of each resource; the pass applies later ones with use().
     std::vector<std::string> done;
     for (const Access& a : node.desc.accesses) {

@@ -22,6 +22,11 @@
 // * Timing: each pass runs inside a GPU timer scope named by its `timer` label (passes in
 //   a row with one label share one scope); a pass may open nested scopes (per light).
 //   CPU passes are timed on the CPU and reported as "cpu:NAME".
+// * Work: each scope also records what bounds it (illum-bench raster): a raster pass notes
+//   its fills (PassContext::fill, or counted with occlusion queries in a counting frame:
+//   SceneDrawer::render_counted) and triangles; a pass without attachments is compute
+//   work, and the graph notes the bytes of the images and buffers it declares (each read
+//   once and written once).
 //
 // Nothing here needs a GPU: with VK_NULL_HANDLE as the command buffer and no bound images
 // the graph runs its schedules and derives barriers as data (tests/realtime/frame_graph_test).
@@ -185,6 +190,21 @@ class PassContext {
     uint32_t scope_ = 0;
   };
   Scope scope(const std::string& name) { return Scope(timer_, cmd_, name); }
+  // The raster work of the innermost open scope: `count` fills of the whole of `fill`'s
+  // targets (a full-screen trivial pass into them is the bound of each).
+  void fill(const gpu::RasterFill& fill, double count = 1.0);
+  // Counting frames (Renderer::measure_work): the samples of the draws recorded between the
+  // two calls, inside a rendering scope, become fills of `per_sample` (their overdraw).
+  // With `minus` (an earlier query of this frame) its samples are subtracted.
+  bool counting() const;
+  uint32_t begin_count();
+  void end_count(uint32_t query, const gpu::RasterFill& per_sample, int minus = -1);
+  // Whether fragments that pass a draw's tests may be counted apart (not on a software
+  // device: lavapipe crashes on occlusion queries around depth-tested draws in frames that
+  // also build shadow volumes on the GPU).
+  bool counts_tested() const;
+  // Triangles the innermost open scope submitted (its geometry bound).
+  void triangles(double count);
   // Whether "NAME.previous" holds a frame (false on the first frame after creation).
   bool has_history(const std::string& resource) const;
 
@@ -281,6 +301,8 @@ class FrameGraph {
   };
   std::optional<Logical> find(const std::string& name) const;
   Copy& copy_of(const std::string& name, uint64_t frame);
+  // Bytes of the resources `pass` declares: each read once, each written once.
+  double bytes_of(const PassDesc& pass, uint64_t frame);
   void apply(const std::string& name, uint64_t frame, VkCommandBuffer cmd, Uses uses,
              VkPipelineStageFlags2 shaders);
   std::vector<int> due_items(Node& node, uint64_t frame);

@@ -257,7 +257,8 @@ struct Renderer::Impl {
     view.index = frame_index;
   }
 
-  void render(const Camera& camera) {
+  void render(const Camera& camera, bool counting = false) {
+    timer.set_counting(counting);
     if (last_camera &&
         (last_camera->position != camera.position || last_camera->look_at != camera.look_at ||
          last_camera->up != camera.up || last_camera->fov_y != camera.fov_y))
@@ -288,10 +289,14 @@ struct Renderer::Impl {
       auto it = std::find_if(times.begin(), times.end(), [&](const gpu::PassTime& x) {
         return x.name == t.name && x.depth == t.depth;
       });
-      if (it == times.end())
+      if (it == times.end()) {
         times.push_back(t);
-      else
+      } else {
         it->ms += t.ms;
+        it->bytes += t.bytes;
+        it->triangles += t.triangles;
+        it->fills.insert(it->fills.end(), t.fills.begin(), t.fills.end());
+      }
     }
     for (const gpu::PassTime& t : graph->cpu_times()) times.push_back(t);
   }
@@ -319,6 +324,13 @@ void Renderer::render(const Camera& camera) {
 }
 
 const std::vector<gpu::PassTime>& Renderer::pass_times() const {
+  return impl_->times;
+}
+
+const std::vector<gpu::PassTime>& Renderer::measure_work(const Camera& camera) {
+  check_camera(camera);
+  impl_->render(camera, /*counting=*/true);
+  impl_->timer.set_counting(false);
   return impl_->times;
 }
 

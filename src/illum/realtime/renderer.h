@@ -45,6 +45,11 @@ class Renderer {
   // the CPU work of that frame as "cpu:NAME" (the CPU silhouette build).
   const std::vector<gpu::PassTime>& pass_times() const;
   std::vector<std::string> pass_order() const;
+  // Renders one more frame whose pass times also carry counted overdraw (occlusion queries
+  // around the draws whose cost is their fragment count: stencil shadow volumes) and returns
+  // them; each scope's fills and bytes say what bounds it (illum-bench raster). Its times
+  // include the counting draws: time other frames.
+  const std::vector<gpu::PassTime>& measure_work(const Camera& camera);
 
   Image hdr();  // linear radiance, RGBA
   // The log-average luminance of the last frame's HDR image as the GPU computed it for

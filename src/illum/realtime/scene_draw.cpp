@@ -16,6 +16,16 @@ gpu::VertexInput mesh_vertex_input(bool position_only) {
   return in;
 }
 
+gpu::GraphicsPipelineDesc counting_variant(gpu::GraphicsPipelineDesc d) {
+  d.fragment_shader = "";
+  d.color_write = false;
+  d.additive_blend = false;
+  d.depth_test = false;
+  d.depth_write = false;
+  d.stencil_test = false;
+  return d;
+}
+
 namespace {
 
 void set_viewport(VkCommandBuffer cmd, VkExtent2D extent) {
@@ -58,8 +68,10 @@ void SceneDrawer::begin(VkCommandBuffer cmd, const DrawTargets& t) const {
   set_viewport(cmd, t.extent);
 }
 
-void SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline, VkPipelineLayout layout,
-                       const std::array<VkDescriptorSet, 3>& sets, const SceneView& view) const {
+size_t SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
+                         VkPipelineLayout layout, const std::array<VkDescriptorSet, 3>& sets,
+                         const SceneView& view) const {
+  size_t triangles = 0;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, globals_, sets);
   VkDeviceSize offset = 0;
@@ -85,7 +97,9 @@ void SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline, VkPip
     vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
     const MeshRange& r = scene_.meshes()[d.mesh];
     vkCmdDrawIndexed(cmd, r.index_count, 1, r.first_index, r.vertex_offset, 0);
+    triangles += r.index_count / 3;
   }
+  return triangles;
 }
 
 void SceneDrawer::render(VkCommandBuffer cmd, const DrawTargets& targets,
@@ -94,6 +108,33 @@ void SceneDrawer::render(VkCommandBuffer cmd, const DrawTargets& targets,
                          const SceneView& view) const {
   begin(cmd, targets);
   for (const gpu::Pipeline* p : variants) draw(cmd, *p, layout, sets, view);
+  end(cmd);
+}
+
+void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
+                                 const gpu::Pipeline& variant, const gpu::Pipeline& counter,
+                                 VkPipelineLayout layout,
+                                 const std::array<VkDescriptorSet, 3>& sets, const SceneView& view,
+                                 const gpu::RasterFill& passing,
+                                 const gpu::RasterFill& rejected) const {
+  const VkCommandBuffer cmd = pass.cmd();
+  begin(cmd, targets);
+  // Lavapipe crashes on occlusion queries around depth-tested draws in frames that also
+  // build shadow volumes on the GPU: there every fragment counts as rejected (a lower bound).
+  const bool split = pass.counts_tested();
+  const uint32_t passed = split ? pass.begin_count() : 0;
+  pass.triangles(static_cast<double>(draw(cmd, variant, layout, sets, view)));
+  if (split) pass.end_count(passed, passing);
+  end(cmd);
+  if (!pass.counting()) return;
+  // Everything rasterized, drawn again untested into the kept targets.
+  DrawTargets again = targets;
+  for (DrawTargets::Color& c : again.colors) c.clear = false;
+  again.clear_depth = false;
+  begin(cmd, again);
+  const uint32_t all = pass.begin_count();
+  draw(cmd, counter, layout, sets, view);
+  pass.end_count(all, rejected, split ? static_cast<int>(passed) : -1);
   end(cmd);
 }
 

@@ -9,14 +9,19 @@
 #include <initializer_list>
 #include <vector>
 
+#include "illum/gpu/gpu_timer.h"
 #include "illum/gpu/pipeline.h"
 #include "illum/realtime/frame_globals.h"
+#include "illum/realtime/frame_graph.h"
 #include "illum/realtime/gpu_scene.h"
 
 namespace illum::realtime {
 
 // The vertex layout of the scene's vertex buffer (position only for depth-like passes).
 gpu::VertexInput mesh_vertex_input(bool position_only);
+// The counting variant of a scene-draw pipeline (SceneDrawer::render_counted): the same
+// vertex stage and attachments, no test, no fragment shader, nothing written.
+gpu::GraphicsPipelineDesc counting_variant(gpu::GraphicsPipelineDesc desc);
 
 struct DrawTargets {
   struct Color {
@@ -52,13 +57,24 @@ class SceneDrawer {
   void begin(VkCommandBuffer cmd, const DrawTargets& targets) const;
   void end(VkCommandBuffer cmd) const { vkCmdEndRendering(cmd); }
   // Inside a scope: binds `pipeline` and the shading sets (slots 2..4 from `sets`), then
-  // draws every draw item with its material (set 1) and push constants.
-  void draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline, VkPipelineLayout layout,
-            const std::array<VkDescriptorSet, 3>& sets, const SceneView& view) const;
+  // draws every draw item with its material (set 1) and push constants. Returns the
+  // triangles drawn.
+  size_t draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline, VkPipelineLayout layout,
+              const std::array<VkDescriptorSet, 3>& sets, const SceneView& view) const;
   // begin(), draw() with each variant in turn (a depth pre-pass, then shading), end().
   void render(VkCommandBuffer cmd, const DrawTargets& targets,
               std::initializer_list<const gpu::Pipeline*> variants, VkPipelineLayout layout,
               const std::array<VkDescriptorSet, 3>& sets, const SceneView& view) const;
+
+  // render() with one variant, noting the pass's work in its timer scope: the triangles,
+  // and in counting frames (Renderer::measure_work) its fragments — those that pass the
+  // tests (an occlusion query around the draws) as fills of `passing`, and those rejected
+  // (all it rasterizes, counted by drawing again with `counter`, minus the passing) as fills
+  // of `rejected`.
+  void render_counted(PassContext& pass, const DrawTargets& targets, const gpu::Pipeline& variant,
+                      const gpu::Pipeline& counter, VkPipelineLayout layout,
+                      const std::array<VkDescriptorSet, 3>& sets, const SceneView& view,
+                      const gpu::RasterFill& passing, const gpu::RasterFill& rejected) const;
 
   // The scope of the per-light passes after the depth (and G-buffer) pass — light volumes,
   // stencil shadow volumes: the HDR target loaded, the depth read-only (tested, and

@@ -126,6 +126,15 @@ StencilShadows::StencilShadows(gpu::Context& context, const GpuScene& scene, siz
   v.depth_format = depth_format;
   v.stencil_format = depth_format;
   stencil_pipeline_ = gpu::Pipeline(context, pipeline_layout, v);
+  // Counting frames (Renderer::measure_work): the same draws with no test at all, so an
+  // occlusion query counts every sample the z-fail pass rasterizes (each costs a stencil
+  // update or a depth test), i.e. the volumes' overdraw.
+  gpu::GraphicsPipelineDesc counted = v;
+  counted.depth_test = false;
+  counted.depth_write = false;
+  counted.stencil_test = false;
+  count_pipeline_ = gpu::Pipeline(context, pipeline_layout, counted);
+
   if (source == SilhouetteSource::kGpu) create_gpu_resources(light_count);
 }
 
@@ -243,16 +252,18 @@ void StencilShadows::record_extraction(VkCommandBuffer cmd, const std::vector<Li
   }
 }
 
-void StencilShadows::record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_set,
-                                    size_t light) const {
+void StencilShadows::record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_set, size_t light,
+                                    StencilDraw what) const {
+  const VkPipeline pipeline =
+      what == StencilDraw::kRasterized ? count_pipeline_.handle() : stencil_pipeline_.handle();
   const bool gpu = source_ == SilhouetteSource::kGpu;
   if (gpu ? light >= outputs_.size()
           : light >= cpu_ranges_.size() || cpu_ranges_[light].second == 0)
     return;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, stencil_pipeline_.handle());
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1, &frame_set,
                           0, nullptr);
-  vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+  if (what == StencilDraw::kCount) vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
   const VkDeviceSize offset = 0;
   const VkBuffer vertices = gpu ? outputs_[light].handle() : cpu_vertices_.handle();
   vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);

@@ -74,8 +74,12 @@ class StencilShadows {
   void record_clear(VkCommandBuffer cmd, size_t light_count);
   void record_extraction(VkCommandBuffer cmd, const std::vector<Light>& lights, bool back_faces);
   // Inside a rendering scope with a stencil attachment: the z-fail count of light `light`'s
-  // volumes against the bound depth (its own pipeline; binds `frame_set` as set 0).
-  void record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_set, size_t light) const;
+  // volumes against the bound depth (its own pipeline; binds `frame_set` as set 0). For
+  // counting frames, kRasterized: the same draws untested, writing nothing (an occlusion
+  // query around them counts every sample the z-fail pass rasterizes).
+  enum class StencilDraw { kCount, kRasterized };
+  void record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_set, size_t light,
+                      StencilDraw what = StencilDraw::kCount) const;
 
  private:
   void create_gpu_resources(size_t light_count);
@@ -85,7 +89,7 @@ class StencilShadows {
   ShadowVolumeBuilder builder_;
   float cap_offset_;
   VkPipelineLayout pipeline_layout_;
-  gpu::Pipeline stencil_pipeline_;
+  gpu::Pipeline stencil_pipeline_, count_pipeline_;
   // CPU source.
   gpu::Buffer cpu_vertices_;
   std::vector<std::pair<uint32_t, uint32_t>> cpu_ranges_;  // first vertex, count per light

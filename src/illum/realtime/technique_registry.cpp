@@ -13,6 +13,7 @@ const std::vector<TechniqueDecl>& technique_registry() {
       no_shadows_technique(),    shadow_map_technique(), vsm_technique(),
       shadow_volume_technique(), baked_technique(),      ssao_technique(),
       luminance_technique(),     bloom_technique(),      tonemap_technique(),
+      visibility_technique(),
   };
   return registry;
 }

@@ -1,4 +1,5 @@
-// The deferred pipeline: a compact G-buffer after a depth pre-pass (albedo + exponent RGBA16F,
+// The deferred pipeline: a compact G-buffer after a depth pre-pass (a pass and timer scope of
+// its own; albedo + exponent RGBA16F,
 // both normals octahedral in one RGBA16F, specular + material type RGBA8; position from
 // depth; emission + ambient straight into the HDR target), then the lights: one compute
 // dispatch looping over them (default), or per-light volumes with the stencil trick (S001
@@ -18,11 +19,9 @@ namespace illum::realtime {
 
 namespace {
 
-// Compact G-buffer, 20 bytes a pixel plus the HDR target (was 28 + 8 in four fp16 targets).
-constexpr VkFormat kAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // albedo, exponent
-constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // 2 octahedral normals
-constexpr VkFormat kSpecularFormat = VK_FORMAT_R8G8B8A8_UNORM;     // ks, material type
-const char* const kTargets[3] = {"gbuffer.albedo", "gbuffer.normal", "gbuffer.specular"};
+// Compact G-buffer (frame_targets.h), 20 bytes a pixel plus the HDR target (was 28 + 8 in
+// four fp16 targets).
+const auto& kTargets = kGbufferTargets;
 
 // Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
 void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
@@ -78,11 +77,14 @@ class Deferred final : public FramePipeline {
     // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
     gpu::GraphicsPipelineDesc pre = g;
     pre.fragment_shader = "";
+    pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
+    prepass_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(pre));
     g.depth_write = false;
     g.depth_compare = VK_COMPARE_OP_EQUAL;
     gbuffer_ = gpu::Pipeline(ctx.gpu, layout, g);
+    gbuffer_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(g));
     gpu::GraphicsPipelineDesc l;
     l.vertex_shader = "deferred_light.vert";
     l.fragment_shader = "deferred_light.frag";
@@ -139,15 +141,22 @@ class Deferred final : public FramePipeline {
     // texture, whichever lighting runs.
     graph.add_resource(hdr_target(VK_IMAGE_USAGE_STORAGE_BIT));
     graph.add_resource(depth_target(ctx_.depth_format));
-    const VkFormat formats[3] = {kAlbedoFormat, kNormalFormat, kSpecularFormat};
     for (int k = 0; k < 3; ++k) {
       ResourceDesc r;
       r.name = kTargets[k];
       r.frame_divisor = 1;
-      r.format = formats[k];
+      r.format = kGbufferFormats[k];
       r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT;
       graph.add_resource(r);
     }
+    // The depth pre-pass is a pass of its own so it is timed (and bounded) on its own.
+    PassDesc pre;
+    pre.name = "depth_prepass";
+    pre.technique = name();
+    pre.phase = Phase::kGeometry;
+    pre.accesses = {{"depth", kDepthAttachment}};
+    pre.record = [this](PassContext& pass) { record_prepass(pass); };
+    graph.add_pass(std::move(pre));
     PassDesc g;
     g.name = "gbuffer";
     g.technique = name();
@@ -218,16 +227,33 @@ class Deferred final : public FramePipeline {
     bind_shading_sets(c, point, layout_.handle(), ctx_.globals, ctx_.shading_sets(set_));
   }
 
+  void record_prepass(PassContext& pass) {
+    DrawTargets t;
+    t.depth = ctx_.resources.image("depth").layer_view(0);
+    t.stencil = true;
+    t.extent = {ctx_.width(), ctx_.height()};
+    using D = gpu::RasterFill::Depth;
+    const uint32_t w = t.extent.width, h = t.extent.height;
+    ctx_.drawer.render_counted(
+        pass, t, prepass_, prepass_count_, layout_.handle(), ctx_.shading_sets(set_), SceneView{},
+        {w, h, {}, ctx_.depth_format, D::kWrite}, {w, h, {}, ctx_.depth_format, D::kReject});
+  }
+
   void record_gbuffer(PassContext& pass) {
     FrameResources& r = ctx_.resources;
     DrawTargets t;
     for (const char* name : kTargets) t.colors.push_back({r.image(name).view(), true, {}});
     t.colors.push_back({r.image("hdr").view(), true, {}});
     t.depth = r.image("depth").layer_view(0);
+    t.clear_depth = false;
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
-    ctx_.drawer.render(pass.cmd(), t, {&prepass_, &gbuffer_}, layout_.handle(),
-                       ctx_.shading_sets(set_), SceneView{});
+    using D = gpu::RasterFill::Depth;
+    const uint32_t w = t.extent.width, h = t.extent.height;
+    const std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
+    ctx_.drawer.render_counted(
+        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_), SceneView{},
+        {w, h, mrt, ctx_.depth_format, D::kTest}, {w, h, mrt, ctx_.depth_format, D::kReject});
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
@@ -288,8 +314,8 @@ class Deferred final : public FramePipeline {
   gpu::DescriptorSetLayout set_layout_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
-  gpu::Pipeline prepass_, gbuffer_, compute_light_, light_stencil_, light_volume_,
-      light_fullscreen_, masked_light_;
+  gpu::Pipeline prepass_, gbuffer_, prepass_count_, gbuffer_count_, compute_light_, light_stencil_,
+      light_volume_, light_fullscreen_, masked_light_;
   gpu::Buffer sphere_vertices_, sphere_indices_;
   uint32_t sphere_index_count_ = 0;
 };

@@ -1,7 +1,7 @@
-// The forward pipeline: a depth pre-pass (same vertex shader, no fragment shader), then
-// forward.frag with depth EQUAL over all lights, so each pixel shades once however deep the
-// overdraw. With stencil shadow volumes the main pass writes emission + ambient only and
-// each light is added by record_masked_light().
+// The forward pipeline: a depth pre-pass (same vertex shader, no fragment shader; a pass and
+// timer scope of its own), then forward.frag with depth EQUAL over all lights, so each pixel shades
+// once however deep the overdraw. With stencil shadow volumes the main pass writes emission +
+// ambient only and each light is added by record_masked_light().
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
 #include "illum/realtime/scene_draw.h"
@@ -33,11 +33,14 @@ class Forward final : public FramePipeline {
     // Sibenik's nave would otherwise shade every overlapping layer.
     gpu::GraphicsPipelineDesc pre = fwd;
     pre.fragment_shader = "";
+    pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
+    prepass_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(pre));
     fwd.depth_write = false;
     fwd.depth_compare = VK_COMPARE_OP_EQUAL;
     shade_ = gpu::Pipeline(ctx.gpu, layout, fwd);
+    shade_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(fwd));
     if (masked_) {
       gpu::GraphicsPipelineDesc l = fwd;
       // Same vertex shader and state as the depth pass, so the depths repeat exactly (the
@@ -58,6 +61,25 @@ class Forward final : public FramePipeline {
   void declare(FrameGraph& graph) override {
     graph.add_resource(hdr_target());
     graph.add_resource(depth_target(ctx_.depth_format));
+    const VkExtent2D extent{ctx_.width(), ctx_.height()};
+    // The depth pre-pass is a pass of its own so it is timed (and bounded) on its own.
+    PassDesc pre;
+    pre.name = "depth_prepass";
+    pre.technique = name();
+    pre.phase = Phase::kGeometry;
+    pre.accesses = {{"depth", kDepthAttachment}};
+    pre.record = [this, extent](PassContext& pass) {
+      DrawTargets t;
+      t.depth = ctx_.resources.image("depth").layer_view(0);
+      t.stencil = true;
+      t.extent = extent;
+      using D = gpu::RasterFill::Depth;
+      ctx_.drawer.render_counted(pass, t, prepass_, prepass_count_, ctx_.globals.default_layout(),
+                                 ctx_.shading_sets(), SceneView{},
+                                 {extent.width, extent.height, {}, ctx_.depth_format, D::kWrite},
+                                 {extent.width, extent.height, {}, ctx_.depth_format, D::kReject});
+    };
+    graph.add_pass(std::move(pre));
     PassDesc p;
     p.name = "forward";
     p.technique = name();
@@ -65,16 +87,21 @@ class Forward final : public FramePipeline {
     p.accesses = ctx_.shading_reads(kFragmentShader);
     p.accesses.push_back({"hdr", kColorAttachment});
     p.accesses.push_back({"depth", kDepthAttachment});
-    p.record = [this](PassContext& pass) {
+    p.record = [this, extent](PassContext& pass) {
       DrawTargets t;
       t.colors = {{ctx_.resources.image("hdr").view(), true, {}}};
       t.depth = ctx_.resources.image("depth").layer_view(0);
+      t.clear_depth = false;
       t.stencil = true;
-      t.extent = {ctx_.width(), ctx_.height()};
+      t.extent = extent;
       SceneView view;
       view.mode = masked_ ? 1 : 0;
-      ctx_.drawer.render(pass.cmd(), t, {&prepass_, &shade_}, ctx_.globals.default_layout(),
-                         ctx_.shading_sets(), view);
+      using D = gpu::RasterFill::Depth;
+      const uint32_t w = extent.width, h = extent.height;
+      ctx_.drawer.render_counted(pass, t, shade_, shade_count_, ctx_.globals.default_layout(),
+                                 ctx_.shading_sets(), view,
+                                 {w, h, {kHdrFormat}, ctx_.depth_format, D::kTest},
+                                 {w, h, {kHdrFormat}, ctx_.depth_format, D::kReject});
     };
     graph.add_pass(std::move(p));
   }
@@ -90,7 +117,7 @@ class Forward final : public FramePipeline {
 
  private:
   bool masked_ = false;
-  gpu::Pipeline prepass_, shade_, masked_light_;
+  gpu::Pipeline prepass_, shade_, masked_light_, prepass_count_, shade_count_;
 };
 
 }  // namespace

@@ -10,6 +10,15 @@ namespace illum::realtime {
 inline constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 inline constexpr VkFormat kLdrFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
+// The compact G-buffer (shaders/gbuffer.glsl): written by the deferred pipeline's raster pass,
+// and by the visibility pipeline's resolve where stencil shadow volumes light over it.
+inline constexpr VkFormat kAlbedoFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // albedo, exponent
+inline constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // 2 octahedral normals
+inline constexpr VkFormat kSpecularFormat = VK_FORMAT_R8G8B8A8_UNORM;     // ks, material type
+inline constexpr const char* kGbufferTargets[3] = {"gbuffer.albedo", "gbuffer.normal",
+                                                   "gbuffer.specular"};
+inline constexpr VkFormat kGbufferFormats[3] = {kAlbedoFormat, kNormalFormat, kSpecularFormat};
+
 inline ResourceDesc hdr_target(uint32_t extra_usage = 0) {
   ResourceDesc r;
   r.name = "hdr";

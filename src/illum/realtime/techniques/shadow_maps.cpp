@@ -60,12 +60,15 @@ class ShadowMaps final : public ShadowMethod {
     sh.cull = VK_CULL_MODE_NONE;
     sh.color_formats = {format()};
     sh.depth_format = kShadowDepthFormat;
-    if (!cube_lights_.empty() || !spot_lights_.empty())
+    if (!cube_lights_.empty() || !spot_lights_.empty()) {
       radial_ = gpu::Pipeline(ctx.gpu, layout, sh);
+      radial_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(sh));
+    }
     if (cascade_light_ >= 0) {
       sh.fragment_shader = "shadow_dir.frag";
       sh.depth_clamp = ctx.gpu.depth_clamp();  // casters behind the cascade's near plane
       ortho_ = gpu::Pipeline(ctx.gpu, layout, sh);
+      ortho_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(sh));
     }
     const size_t views = 6 * cube_lights_.size() + spot_lights_.size() + kCascades;
     views_ = gpu::Buffer(ctx.gpu, views * sizeof(glm::mat4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -115,7 +118,7 @@ class ShadowMaps final : public ShadowMethod {
       p.accesses = {{"shadow.cascades", kColorAttachment}, {"shadow.depth", kDepthAttachment}};
       p.record = [this](PassContext& pass) {
         for (int k = 0; k < kCascades; ++k)
-          render_view(pass, ortho_, "shadow.cascades", static_cast<uint32_t>(k),
+          render_view(pass, ortho_, ortho_count_, "shadow.cascades", static_cast<uint32_t>(k),
                       cascade_view_offset() + k, cascade_light_);
       };
       graph.add_pass(std::move(p));
@@ -147,11 +150,11 @@ class ShadowMaps final : public ShadowMethod {
       for (int v : pass.items()) {
         const size_t view = static_cast<size_t>(v);
         if (view < cube_views)
-          render_view(pass, radial_, "shadow.cubes", static_cast<uint32_t>(view), v,
+          render_view(pass, radial_, radial_count_, "shadow.cubes", static_cast<uint32_t>(view), v,
                       cube_lights_[view / 6]);
         else
-          render_view(pass, radial_, "shadow.spots", static_cast<uint32_t>(view - cube_views), v,
-                      spot_lights_[view - cube_views]);
+          render_view(pass, radial_, radial_count_, "shadow.spots",
+                      static_cast<uint32_t>(view - cube_views), v, spot_lights_[view - cube_views]);
       }
     };
     graph.add_pass(std::move(p));
@@ -243,8 +246,8 @@ class ShadowMaps final : public ShadowMethod {
 
   // One view of the scene into one layer of `target` (shadow_cube: radial distance / far,
   // shadow_dir: orthographic depth; VSM: also its square).
-  void render_view(PassContext& pass, const gpu::Pipeline& pipeline, const char* target,
-                   uint32_t layer, int view, int light) {
+  void render_view(PassContext& pass, const gpu::Pipeline& pipeline, const gpu::Pipeline& counter,
+                   const char* target, uint32_t layer, int view, int light) {
     pass.use("shadow.depth", kDepthAttachment);  // the last view's depth test is done with it
     DrawTargets t;
     t.colors = {{ctx_.resources.image(target).layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}}}};
@@ -255,9 +258,12 @@ class ShadowMaps final : public ShadowMethod {
     v.view_index = view;
     v.light_index = light;
     v.per_draw = false;
-    ctx_.drawer.render(
-        pass.cmd(), t, {&pipeline}, ctx_.globals.default_layout(),
-        {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kBakedSet)}, v);
+    using D = gpu::RasterFill::Depth;
+    ctx_.drawer.render_counted(
+        pass, t, pipeline, counter, ctx_.globals.default_layout(),
+        {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kBakedSet)}, v,
+        {resolution_, resolution_, {format()}, kShadowDepthFormat, D::kWrite},
+        {resolution_, resolution_, {format()}, kShadowDepthFormat, D::kReject});
   }
 
   // Cascaded shadow maps (S001 §4.2.1): the view frustum split between uniform and
@@ -316,7 +322,7 @@ class ShadowMaps final : public ShadowMethod {
   // Narrow spot lights get one 2-D perspective map (the cone's frustum) instead of 6 faces.
   std::vector<int> spot_lights_;
   int cascade_light_ = -1;
-  gpu::Pipeline radial_, ortho_;
+  gpu::Pipeline radial_, ortho_, radial_count_, ortho_count_;
   gpu::Buffer views_, shadow_lights_, uniforms_;
   gpu::DescriptorAllocator descriptors_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;

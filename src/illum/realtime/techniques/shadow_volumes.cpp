@@ -102,16 +102,41 @@ class ShadowVolumes final : public ShadowMethod {
       // The last light's additions and stencil are done before this light's scope.
       pass.use("hdr", kColorAttachment);
       pass.use("depth", depth_access_.uses, depth_access_.shaders);
+      const VkRect2D scissor = light_scissor(lights[i], ctx_.scene.bounds(), ctx_.view().view_proj,
+                                             extent.width, extent.height);
       {
         const PassContext::Scope scope = pass.scope("stencil_volumes");
         ctx_.drawer.begin_light_scope(c, ctx_.resources.image("hdr").view(),
                                       ctx_.resources.image("depth").layer_view(0), extent);
-        const VkRect2D scissor = light_scissor(lights[i], ctx_.scene.bounds(),
-                                               ctx_.view().view_proj, extent.width, extent.height);
         vkCmdSetScissor(c, 0, 1, &scissor);
         stencil_->record_stencil(c, ctx_.globals.frame_set(), i);
+        if (pass.counting()) {
+          // Every sample the volumes rasterize (drawn again, untested, writing nothing),
+          // each taken as a z-fail stencil update: most fail the depth test, behind the
+          // visible surfaces; those in front only test, so the bound is on the high side
+          // for them. (Counting the depth-passing samples apart, with an occlusion query
+          // around depth-tested draws in this read-only-depth scope, crashes lavapipe.)
+          using D = gpu::RasterFill::Depth;
+          const uint32_t all = pass.begin_count();
+          stencil_->record_stencil(c, ctx_.globals.frame_set(), i,
+                                   StencilShadows::StencilDraw::kRasterized);
+          pass.end_count(all,
+                         {extent.width, extent.height, {}, ctx_.depth_format, D::kStencilZFail});
+        }
       }
       const PassContext::Scope scope = pass.scope("volume_lighting");
+      // The light's pixels: every one inside the scissor is tested and, where lit, blended
+      // (one layer: deferred's full-screen pass; forward's second scene draw may rasterize
+      // more). An occlusion query around these stencil-tested draws crashes lavapipe, so the
+      // scissor's area stands for the count.
+      pass.fill({extent.width,
+                 extent.height,
+                 {kHdrFormat},
+                 ctx_.depth_format,
+                 gpu::RasterFill::Depth::kStencilTest,
+                 true},
+                static_cast<double>(scissor.extent.width) * scissor.extent.height /
+                    (static_cast<double>(extent.width) * extent.height));
       ctx_.pipeline().record_masked_light(pass, static_cast<int>(i));
       vkCmdEndRendering(c);
     }

@@ -1,0 +1,538 @@
+// `illum-bench raster FRAME.json...`: every pass of `illum frame --json` runs beside the bound
+// of the device it ran on. The bounds are measured here, on the same device, in this run:
+//
+// * raster: for each attachment configuration a pass's passing fragments use (size, colour
+//   formats, depth format; the fragment passes and writes the depth, passes a depth test
+//   only, writes or tests only the stencil, blends), a trivial full-screen pass doing
+//   exactly that (shaders/bound_fill*: one triangle, a constant colour), as 1 and as 8
+//   stacked layers in one rendering: the slope is the time per full-screen layer, one
+//   layer's time minus it the rendering's fixed cost for that attachment set. A pass's work is
+//   counted in `illum frame`'s counting frame with occlusion queries: the fragments that pass its
+//   tests, and all it rasterizes (its draws again, untested) minus those, the rejected ones; its
+//   raster bound is, over its renderings, Σ fixed cost + count × the per-layer time, passing
+//   fragments only (count: fragments / pixels, so coverage and overdraw both count). Rejected
+//   fragments are listed, not bounded: hierarchical Z discards them per tile, far cheaper than a
+//   full-screen rejected layer.
+// * geometry: the triangles a pass submits times the per-triangle time of culled one-point
+//   triangles (shaders/bound_tris.vert: vertex work and assembly, no setup, no pixel).
+// * memory: a buffer-to-buffer copy of --bandwidth-mib MiB gives the device's copy
+//   bandwidth (bytes read + written per second); a compute pass's bound is the bytes of the
+//   images and buffers it declares (each read once and written once) at that bandwidth.
+//
+// A pass's bound is the largest of these. Passes whose median is under 20 µs are listed as
+// dispatch-bound (launch and barrier cost, not their work). Arithmetic bounds are not
+// estimated: no pass declares its operation count.
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "illum/core/error.h"
+#include "illum/gpu/buffer.h"
+#include "illum/gpu/context.h"
+#include "illum/gpu/gpu_image.h"
+#include "illum/gpu/gpu_timer.h"
+#include "illum/gpu/pipeline.h"
+#include "suites.h"
+
+namespace illum::bench {
+
+namespace {
+
+constexpr double kDispatchBoundMs = 0.020;
+
+using Depth = gpu::RasterFill::Depth;
+
+bool rejected(const gpu::RasterFill& f) {
+  return f.depth == Depth::kReject || f.depth == Depth::kStencilZFail;
+}
+
+gpu::RasterFill fill_from_json(const nlohmann::json& j, const std::string& file) {
+  gpu::RasterFill f;
+  try {
+    f.width = j.at("width").get<uint32_t>();
+    f.height = j.at("height").get<uint32_t>();
+    for (const auto& c : j.at("colors")) f.colors.push_back(c.at("format").get<VkFormat>());
+    f.depth_format = j.at("depth_format").get<VkFormat>();
+    const int depth = j.at("depth").get<int>();
+    if (depth < 0 || depth > static_cast<int>(Depth::kStencilZFail))
+      throw Error(fmt::format("{}: unknown depth mode {}", file, depth));
+    f.depth = static_cast<Depth>(depth);
+    f.blend = j.at("blend").get<bool>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("{}: a pass's work is malformed ({})", file, e.what()));
+  }
+  if (f.width == 0 || f.height == 0 || f.width > 16384 || f.height > 16384)
+    throw Error(fmt::format("{}: fill size {}x{} outside 1..16384", file, f.width, f.height));
+  if (f.colors.size() > 4)
+    throw Error(fmt::format("{}: {} colour attachments (the bound passes have at most 4)", file,
+                            f.colors.size()));
+  if ((f.depth == Depth::kNone) != (f.depth_format == VK_FORMAT_UNDEFINED))
+    throw Error(fmt::format("{}: a fill's depth mode and depth format disagree", file));
+  return f;
+}
+
+bool is_uint(VkFormat f) {
+  return f == VK_FORMAT_R32_UINT || f == VK_FORMAT_R32G32_UINT || f == VK_FORMAT_R8_UINT;
+}
+
+// The trivial full-screen pass into `f`'s attachments, `repeats` times (after 2 untimed),
+// each its own rendering scope after a barrier as a frame's passes are; returns the times.
+std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int repeats,
+                              int layers) {
+  std::vector<gpu::GpuImage> colors;
+  for (VkFormat c : f.colors) {
+    gpu::ImageDesc d;
+    d.width = f.width;
+    d.height = f.height;
+    d.format = c;
+    d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    colors.emplace_back(ctx, d);
+  }
+  gpu::GpuImage depth;
+  if (f.depth != Depth::kNone) {
+    gpu::ImageDesc d;
+    d.width = f.width;
+    d.height = f.height;
+    d.format = f.depth_format;
+    d.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    depth = gpu::GpuImage(ctx, d);
+  }
+  const bool stencil_mode = f.depth == Depth::kStencil || f.depth == Depth::kStencilTest ||
+                            f.depth == Depth::kStencilZFail;
+  // Rejected fragments: the depth is cleared to 0 so the full-screen triangle (z = 0.5)
+  // fails LESS everywhere, as overdraw behind nearer surfaces fails.
+  const bool rejecting = f.depth == Depth::kReject || f.depth == Depth::kStencilZFail;
+  if (stencil_mode && !gpu::has_stencil(f.depth_format))
+    throw Error(fmt::format("fill {}: a stencil mode on a format without stencil", f.key()));
+  const bool uint_target = !f.colors.empty() && is_uint(f.colors[0]);
+  for (VkFormat c : f.colors)
+    if (is_uint(c) != uint_target)
+      throw Error(fmt::format("fill {}: mixed integer and float colour targets", f.key()));
+  if (uint_target && f.colors.size() > 1)
+    throw Error(fmt::format("fill {}: more than one integer target", f.key()));
+
+  gpu::PipelineLayout layout(ctx, {}, 0);
+  gpu::GraphicsPipelineDesc p;
+  p.vertex_shader = "bound_fill.vert";
+  p.fragment_shader = f.colors.empty() ? ""
+                      : uint_target    ? "bound_fill_uint.frag"
+                                       : fmt::format("bound_fill{}.frag", f.colors.size());
+  p.cull = VK_CULL_MODE_NONE;
+  p.color_formats = f.colors;
+  p.color_write = !f.colors.empty();
+  p.additive_blend = f.blend;
+  p.depth_format = f.depth_format;
+  if (gpu::has_stencil(f.depth_format)) p.stencil_format = f.depth_format;
+  p.depth_test = f.depth == Depth::kWrite || f.depth == Depth::kTest || rejecting;
+  p.depth_write = f.depth == Depth::kWrite;
+  p.depth_compare = rejecting ? VK_COMPARE_OP_LESS : VK_COMPARE_OP_LESS_OR_EQUAL;
+  if (stencil_mode) {
+    p.stencil_test = true;
+    VkStencilOpState s{};
+    s.failOp = s.depthFailOp = VK_STENCIL_OP_KEEP;
+    s.passOp = f.depth == Depth::kStencil ? VK_STENCIL_OP_INCREMENT_AND_WRAP : VK_STENCIL_OP_KEEP;
+    if (f.depth == Depth::kStencilZFail) s.depthFailOp = VK_STENCIL_OP_INCREMENT_AND_WRAP;
+    s.compareOp = f.depth == Depth::kStencilTest ? VK_COMPARE_OP_EQUAL : VK_COMPARE_OP_ALWAYS;
+    s.compareMask = s.writeMask = 0xff;
+    p.stencil_front = p.stencil_back = s;
+  }
+  gpu::Pipeline pipeline(ctx, layout.handle(), p);
+
+  // The depth is loaded where the frame's passes load it (tested, not written), cleared
+  // where they clear it.
+  const bool load_depth = f.depth == Depth::kTest || f.depth == Depth::kStencilTest;
+  const VkImageLayout ds = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  const VkPipelineStageFlags2 ds_stages =
+      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  const VkAccessFlags2 ds_access = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                                   VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  const VkPipelineStageFlags2 color_stage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  const VkAccessFlags2 color_access =
+      VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  const int total = repeats + 2;
+  gpu::GpuTimer timer(ctx, static_cast<uint32_t>(total));
+  ctx.immediate([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    for (int r = 0; r < total; ++r) {
+      // Each pass waits for the last, as a frame's passes writing one target do.
+      for (gpu::GpuImage& c : colors)
+        c.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, color_stage, color_access);
+      if (depth) depth.transition(cmd, ds, ds_stages, ds_access);
+      std::vector<VkRenderingAttachmentInfo> attachments;
+      for (const gpu::GpuImage& c : colors) {
+        VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        a.imageView = c.view();
+        a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        attachments.push_back(a);
+      }
+      VkRenderingAttachmentInfo d{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      d.imageView = depth ? depth.view() : VK_NULL_HANDLE;
+      d.imageLayout = ds;
+      // The first (untimed) repetition clears what the others load.
+      d.loadOp = load_depth && r > 0 ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+      d.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      d.clearValue.depthStencil = {rejecting ? 0.0f : 1.0f, 0};
+      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      info.renderArea = {{0, 0}, {f.width, f.height}};
+      info.layerCount = 1;
+      info.colorAttachmentCount = static_cast<uint32_t>(attachments.size());
+      info.pColorAttachments = attachments.data();
+      info.pDepthAttachment = depth ? &d : nullptr;
+      info.pStencilAttachment = depth && gpu::has_stencil(f.depth_format) ? &d : nullptr;
+      const uint32_t scope = timer.begin(cmd, "fill");
+      vkCmdBeginRendering(cmd, &info);
+      const VkViewport vp{0.0f, 0.0f, static_cast<float>(f.width), static_cast<float>(f.height),
+                          0.0f, 1.0f};
+      const VkRect2D scissor{{0, 0}, {f.width, f.height}};
+      vkCmdSetViewport(cmd, 0, 1, &vp);
+      vkCmdSetScissor(cmd, 0, 1, &scissor);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+      if (stencil_mode) vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+      // `layers` full-screen triangles at one depth: each passes (LESS_OR_EQUAL) or fails alike.
+      for (int l = 0; l < layers; ++l) vkCmdDraw(cmd, 3, 1, 0, 0);
+      vkCmdEndRendering(cmd);
+      timer.end(cmd, scope);
+      // Tell the tracked state what the pass did, so the next barrier starts from it.
+      for (gpu::GpuImage& c : colors)
+        c.assume_state(VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, color_stage, color_access);
+      if (depth) depth.assume_state(ds, ds_stages, ds_access);
+    }
+  });
+  std::vector<double> ms;
+  const std::vector<gpu::PassTime> times = timer.resolve();
+  for (size_t i = 2; i < times.size(); ++i) ms.push_back(times[i].ms);
+  return ms;
+}
+
+// The geometry bound: ms per triangle of `triangles` indexed triangles (k, k, k), each its
+// own vertex, all at one point (shaders/bound_tris.vert): vertex work and assembly of every
+// triangle, culled before rasterization — less than a real triangle costs (no setup, no
+// pixel), so passes judged by it are at least this slow.
+double ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
+                       std::vector<double>* runs) {
+  std::vector<uint32_t> indices(3 * static_cast<size_t>(triangles));
+  for (uint32_t k = 0; k < triangles; ++k)
+    indices[3 * k] = indices[3 * k + 1] = indices[3 * k + 2] = k;
+  gpu::Buffer index_buffer = gpu::make_device_buffer(
+      ctx, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  gpu::ImageDesc d;
+  d.width = d.height = 1;
+  d.format = VK_FORMAT_R8G8B8A8_UNORM;
+  d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+  gpu::GpuImage target(ctx, d);
+  gpu::PipelineLayout layout(ctx, {}, 0);
+  gpu::GraphicsPipelineDesc p;
+  p.vertex_shader = "bound_tris.vert";
+  p.fragment_shader = "bound_fill1.frag";
+  p.cull = VK_CULL_MODE_NONE;
+  p.depth_test = p.depth_write = false;
+  p.color_formats = {d.format};
+  gpu::Pipeline pipeline(ctx, layout.handle(), p);
+  const int total = repeats + 2;
+  gpu::GpuTimer timer(ctx, static_cast<uint32_t>(total));
+  const VkPipelineStageFlags2 stage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  const VkAccessFlags2 access =
+      VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  ctx.immediate([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    for (int r = 0; r < total; ++r) {
+      target.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, stage, access);
+      VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      a.imageView = target.view();
+      a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      info.renderArea = {{0, 0}, {1, 1}};
+      info.layerCount = 1;
+      info.colorAttachmentCount = 1;
+      info.pColorAttachments = &a;
+      const uint32_t scope = timer.begin(cmd, "triangles");
+      vkCmdBeginRendering(cmd, &info);
+      const VkViewport vp{0.0f, 0.0f, 1.0f, 1.0f, 0.0f, 1.0f};
+      const VkRect2D scissor{{0, 0}, {1, 1}};
+      vkCmdSetViewport(cmd, 0, 1, &vp);
+      vkCmdSetScissor(cmd, 0, 1, &scissor);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
+      vkCmdBindIndexBuffer(cmd, index_buffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+      vkCmdDrawIndexed(cmd, 3 * triangles, 1, 0, 0, 0);
+      vkCmdEndRendering(cmd);
+      timer.end(cmd, scope);
+      target.assume_state(VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, stage, access);
+    }
+  });
+  const std::vector<gpu::PassTime> times = timer.resolve();
+  for (size_t i = 2; i < times.size(); ++i) runs->push_back(times[i].ms);
+  return median(*runs) / triangles;
+}
+
+// Copy bandwidth (bytes read + written per ms) of two device-local buffers of `bytes`.
+double copy_bytes_per_ms(gpu::Context& ctx, VkDeviceSize bytes, int repeats,
+                         std::vector<double>* runs) {
+  const VkBufferUsageFlags usage =
+      VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  gpu::Buffer a(ctx, bytes, usage, gpu::MemoryUsage::kDevice);
+  gpu::Buffer b(ctx, bytes, usage, gpu::MemoryUsage::kDevice);
+  const int total = repeats + 2;
+  gpu::GpuTimer timer(ctx, static_cast<uint32_t>(total));
+  ctx.immediate([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    vkCmdFillBuffer(cmd, a.handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);
+    for (int r = 0; r < total; ++r) {
+      gpu::memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                          VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT,
+                          VK_PIPELINE_STAGE_2_TRANSFER_BIT,
+                          VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+      const uint32_t scope = timer.begin(cmd, "copy");
+      const VkBufferCopy region{0, 0, bytes};
+      // Alternate directions so every copy reads what the last one wrote.
+      vkCmdCopyBuffer(cmd, r % 2 ? b.handle() : a.handle(), r % 2 ? a.handle() : b.handle(), 1,
+                      &region);
+      timer.end(cmd, scope);
+    }
+  });
+  const std::vector<gpu::PassTime> times = timer.resolve();
+  for (size_t i = 2; i < times.size(); ++i) runs->push_back(times[i].ms);
+  const double ms = median(*runs);
+  return ms > 0.0 ? 2.0 * static_cast<double>(bytes) / ms : 0.0;
+}
+
+struct Row {
+  std::string name;
+  int depth = 0;
+  double median_ms = 0.0;
+  bool has_work = false;
+  double raster_ms = 0.0, memory_ms = 0.0, geometry_ms = 0.0;  // own work's bounds
+  std::vector<std::string> details;
+};
+
+}  // namespace
+
+int run_raster(SuiteArgs args) {
+  CLI::App app("illum-bench raster",
+               "each pass of `illum frame --json` runs beside the raster or memory bound of this "
+               "device");
+  std::vector<std::string> files;
+  int repeats = 20;
+  int bandwidth_mib = 256;
+  std::string json_path, device;
+  app.add_option("frames", files, "JSON files written by `illum frame --json` on this device")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--repeats", repeats, "timed repetitions of each bound pass (median)")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  app.add_option("--bandwidth-mib", bandwidth_mib, "buffer size of the copy-bandwidth pass")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
+  app.add_option("--device", device, "pick the Vulkan device whose name contains this");
+  app.add_option("--json", json_path, "also write the table as JSON");
+  if (!parse_args(app, args)) return 0;
+  check_output_folder(json_path);
+
+  std::vector<nlohmann::json> frames;
+  for (const std::string& file : files) {
+    std::ifstream in(file);
+    nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("passes") || !j["passes"].is_array() ||
+        !j.contains("device"))
+      throw Error(fmt::format("{}: not a JSON file of `illum frame --json`", file));
+    frames.push_back(std::move(j));
+  }
+
+  gpu::ContextOptions options;
+  options.device_filter = device;
+  gpu::Context ctx(options);
+  if (!ctx.timestamps())
+    throw Error(fmt::format("device '{}' has no timestamp queries", ctx.device_name()));
+  for (size_t i = 0; i < frames.size(); ++i)
+    if (frames[i]["device"] != ctx.device_name())
+      throw Error(fmt::format("{}: timed on '{}', this device is '{}' (--device picks one)",
+                              files[i], frames[i]["device"].get<std::string>(), ctx.device_name()));
+
+  // Every distinct fill, measured once.
+  std::map<std::string, gpu::RasterFill> fills;
+  for (size_t i = 0; i < frames.size(); ++i)
+    for (const auto& p : frames[i]["passes"])
+      if (p.contains("work"))
+        for (const auto& f : p["work"].at("fills")) {
+          const gpu::RasterFill fill = fill_from_json(f, files[i]);
+          if (!rejected(fill)) fills.emplace(fill.key(), fill);
+        }
+  std::printf("illum-bench raster: device '%s' (%s), %d repetitions a bound\n",
+              ctx.device_name().c_str(), ctx.driver().c_str(), repeats);
+  std::vector<double> copy_runs;
+  const double bytes_per_ms =
+      copy_bytes_per_ms(ctx, VkDeviceSize(bandwidth_mib) << 20, repeats, &copy_runs);
+  std::printf("  copy bandwidth %.1f GB/s (%d MiB buffer-to-buffer, read + written)\n",
+              bytes_per_ms * 1e-6, bandwidth_mib);
+  double most_triangles = 0.0;
+  for (const auto& fr : frames)
+    for (const auto& p : fr["passes"])
+      if (p.contains("work"))
+        most_triangles = std::max(most_triangles, p["work"].value("triangles", 0.0));
+  std::vector<double> triangle_runs;
+  // At least 64k triangles, so launch overhead does not dominate the rate.
+  const uint32_t measured_triangles =
+      static_cast<uint32_t>(std::clamp(most_triangles, 65536.0, 16777216.0));
+  const double triangle_ms = ms_per_triangle(ctx, measured_triangles, repeats, &triangle_runs);
+  std::printf("  triangle rate %.0f Mtriangles/s (%u culled one-point triangles)\n",
+              triangle_ms > 0.0 ? 1e-3 / triangle_ms : 0.0, measured_triangles);
+  std::map<std::string, double> bound_ms, fixed_ms;
+  nlohmann::json bounds = nlohmann::json::array();
+  std::printf("  %-44s %10s %12s\n", "raster bound (ms per full-screen layer)", "ms", "Gpixel/s");
+  for (const auto& [key, fill] : fills) {
+    // The per-layer cost: the slope between 1 and 8 stacked full-screen layers in one pass,
+    // so a rendering's fixed cost (clears, setup) is not charged per fragment.
+    const std::vector<double> one = time_fill(ctx, fill, repeats, 1);
+    const std::vector<double> eight = time_fill(ctx, fill, repeats, 8);
+    const double m = std::max(0.0, (median(eight) - median(one)) / 7.0);
+    bound_ms[key] = m;
+    // The rest of one layer's time is the rendering's fixed cost for this attachment set
+    // (on the H200 far above clearing and storing its bytes: end-of-pass work).
+    fixed_ms[key] = std::max(0.0, median(one) - m);
+    const double gpix = m > 0.0 ? static_cast<double>(fill.width) * fill.height / m * 1e-6 : 0.0;
+    std::printf("  %-44s %10.4f %12.2f\n", key.c_str(), m, gpix);
+    bounds.push_back({{"key", key},
+                      {"ms_per_layer", m},
+                      {"fixed_ms", fixed_ms[key]},
+                      {"one_layer_runs_ms", one},
+                      {"eight_layer_runs_ms", eight},
+                      {"gpixel_per_s", gpix}});
+  }
+
+  nlohmann::json out_frames = nlohmann::json::array();
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const nlohmann::json& fr = frames[i];
+    std::vector<Row> rows;
+    for (const auto& p : fr["passes"]) {
+      Row r;
+      r.name = p.at("name").get<std::string>();
+      r.depth = p.at("depth").get<int>();
+      r.median_ms = p.at("median_ms").get<double>();
+      if (p.contains("work")) {
+        r.has_work = true;
+        // Fills of one configuration (the views of a cube map) are listed once, summed.
+        std::vector<std::pair<std::string, double>> counts;
+        for (const auto& f : p["work"]["fills"]) {
+          const gpu::RasterFill fill = fill_from_json(f, files[i]);
+          const double count = f.at("count").get<double>();
+          // Rejected fragments (behind what is drawn, or z-fail volume samples) are listed,
+          // not bounded: hierarchical Z discards them per tile, far cheaper than a
+          // full-screen rejected layer, so charging them would not give a lower bound.
+          // Each fill is one rendering: its fixed cost, then its passing layers.
+          if (!rejected(fill))
+            r.raster_ms += fixed_ms.at(fill.key()) + count * bound_ms.at(fill.key());
+          auto it = std::find_if(counts.begin(), counts.end(),
+                                 [&](const auto& c) { return c.first == fill.key(); });
+          if (it == counts.end())
+            counts.emplace_back(fill.key(), count);
+          else
+            it->second += count;
+        }
+        for (const auto& [key, count] : counts)
+          r.details.push_back(fmt::format("{:.3g}× {}", count, key));
+        const double triangles = p["work"].value("triangles", 0.0);
+        if (triangles > 0.0) {
+          r.geometry_ms = triangles * triangle_ms;
+          r.details.push_back(fmt::format("{:.4g} triangles", triangles));
+        }
+        const double bytes = p["work"].at("bytes").get<double>();
+        if (bytes > 0.0) {
+          r.memory_ms = bytes / bytes_per_ms;
+          r.details.push_back(fmt::format("{:.1f} MB", bytes * 1e-6));
+        }
+      }
+      rows.push_back(std::move(r));
+    }
+    std::printf("\n%s: %s %dx%d, %s, shadows %s; frame %.4f ms (GPU, median of %d)\n",
+                files[i].c_str(), fr.value("scene", "?").c_str(), fr.value("width", 0),
+                fr.value("height", 0), fr.value("technique", "?").c_str(),
+                fr.value("shadows", "?").c_str(), fr.value("frame_gpu_median_ms", 0.0),
+                fr.value("frames", 0));
+    std::printf("  %-22s %10s %10s %7s  %-9s %s\n", "pass", "median ms", "bound ms", "ratio",
+                "bound", "work");
+    nlohmann::json passes = nlohmann::json::array();
+    for (size_t k = 0; k < rows.size(); ++k) {
+      const Row& r = rows[k];
+      std::string kind = "none";
+      double bound = 0.0;
+      std::vector<std::string> details = r.details;
+      if (r.name.rfind("cpu:", 0) == 0) {
+        kind = "cpu";
+      } else if (r.median_ms < kDispatchBoundMs) {
+        kind = "dispatch";
+      } else if (r.has_work) {
+        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms});
+        kind = bound == r.raster_ms ? "raster" : bound == r.geometry_ms ? "geometry" : "memory";
+        if (bound <= 0.0) kind = "none";  // rejected fragments only (listed, not bounded)
+      } else {
+        // A scope of nested steps only (per-light scopes): the sum of theirs.
+        bool any = false;
+        for (size_t c = k + 1; c < rows.size() && rows[c].depth > r.depth; ++c)
+          if (rows[c].depth == r.depth + 1 && rows[c].has_work) {
+            bound += std::max({rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms});
+            any = true;
+          }
+        if (any) {
+          kind = "nested";
+          details = {"sum of its steps' bounds"};
+        }
+      }
+      const double ratio = bound > 0.0 ? r.median_ms / bound : 0.0;
+      const std::string label = std::string(2 * static_cast<size_t>(r.depth), ' ') + r.name;
+      std::printf("  %-22s %10.4f %10s %7s  %-9s %s\n", label.c_str(), r.median_ms,
+                  bound > 0.0 ? fmt::format("{:.4f}", bound).c_str() : "-",
+                  bound > 0.0 ? fmt::format("{:.2f}", ratio).c_str() : "-", kind.c_str(),
+                  fmt::format("{}", fmt::join(details, ", ")).c_str());
+      nlohmann::json jp = {{"name", r.name},
+                           {"depth", r.depth},
+                           {"median_ms", r.median_ms},
+                           {"bound", kind},
+                           {"work", details}};
+      if (bound > 0.0) {
+        jp["bound_ms"] = bound;
+        jp["ratio"] = ratio;
+      }
+      passes.push_back(jp);
+    }
+    out_frames.push_back({{"file", files[i]},
+                          {"scene", fr.value("scene", "")},
+                          {"technique", fr.value("technique", "")},
+                          {"shadows", fr.value("shadows", "")},
+                          {"techniques", fr.value("techniques", nlohmann::json::array())},
+                          {"width", fr.value("width", 0)},
+                          {"height", fr.value("height", 0)},
+                          {"frames", fr.value("frames", 0)},
+                          {"frame_gpu_median_ms", fr.value("frame_gpu_median_ms", 0.0)},
+                          {"passes", passes}});
+  }
+  if (!json_path.empty()) {
+    nlohmann::json j;
+    j["suite"] = "raster";
+    j["device"] = ctx.device_name();
+    j["driver"] = ctx.driver();
+    j["repeats"] = repeats;
+    j["dispatch_bound_ms"] = kDispatchBoundMs;
+    j["copy"] = {{"mib", bandwidth_mib}, {"gb_per_s", bytes_per_ms * 1e-6}, {"runs_ms", copy_runs}};
+    j["raster_bounds"] = bounds;
+    j["triangles"] = {{"count", measured_triangles},
+                      {"ms_per_triangle", triangle_ms},
+                      {"runs_ms", triangle_runs}};
+    j["frames"] = out_frames;
+    j["validation_messages"] = ctx.validation_message_count();
+    j["machine"] = machine_info();
+    write_json(json_path, j);
+  }
+  return 0;
+}
+
+}  // namespace illum::bench

@@ -1,0 +1,11 @@
+#version 450
+// The visibility buffer's one raster pass: positions only (the resolve reads the rest from
+// the vertex buffer), the same transform as forward.vert so the depths agree.
+#include "common.glsl"
+
+layout(location = 0) in vec3 in_position;
+
+void main() {
+  vec4 world = push.model * vec4(in_position, 1.0);
+  gl_Position = frame.view_proj * world;
+}
