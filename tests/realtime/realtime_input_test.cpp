@@ -20,17 +20,7 @@ using test::context;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-class RealtimeInput : public ::testing::Test {
- protected:
-  void SetUp() override {
-    ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
-    before_ = context().validation_message_count();
-  }
-  void TearDown() override {
-    EXPECT_EQ(context().validation_message_count(), before_) << "validation messages were emitted";
-  }
-  size_t before_ = 0;
-};
+class RealtimeInput : public test::ValidatedVulkanTest {};
 
 RenderSettings small() {
   RenderSettings o;

@@ -38,17 +38,7 @@ constexpr float kHalf = 2.0f;  // the floor spans [−2, 2]² m at y = 0
 // relative error is meaningless; there the same 2⁻¹⁰ applies to the image's brightest pixel.
 constexpr float kShadingRel = 1.0f / 1024.0f;
 
-class RealtimeLighting : public ::testing::Test {
- protected:
-  void SetUp() override {
-    ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
-    before_ = context().validation_message_count();
-  }
-  void TearDown() override {
-    EXPECT_EQ(context().validation_message_count(), before_) << "validation messages were emitted";
-  }
-  size_t before_ = 0;
-};
+class RealtimeLighting : public test::ValidatedVulkanTest {};
 
 // A 16×16 texture of 8-bit codes (so the GPU's UNORM upload holds exactly these values):
 // `base` ± `spread` per channel from a hash, smooth enough that neighbouring texels differ

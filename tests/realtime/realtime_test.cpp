@@ -24,17 +24,7 @@ using test::context;
 
 constexpr int kSize = 128;
 
-class RealtimeTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
-    before_ = context().validation_message_count();
-  }
-  void TearDown() override {
-    EXPECT_EQ(context().validation_message_count(), before_) << "validation messages were emitted";
-  }
-  size_t before_ = 0;
-};
+class RealtimeTest : public test::ValidatedVulkanTest {};
 
 struct Agreement {
   size_t compared = 0, within = 0;

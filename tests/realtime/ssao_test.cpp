@@ -30,17 +30,7 @@ namespace {
 
 using test::context;
 
-class SsaoTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
-    before_ = context().validation_message_count();
-  }
-  void TearDown() override {
-    EXPECT_EQ(context().validation_message_count(), before_) << "validation messages were emitted";
-  }
-  size_t before_ = 0;
-};
+class SsaoTest : public test::ValidatedVulkanTest {};
 
 // The estimand of the comparison (metres: the built-in Cornell box is 0.556 m wide).
 // A falloff of R/2 (g = 0.2 at R) and a bias of 0.2 so that each part of the term moves the

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "illum/core/image.h"
 #include "illum/gpu/context.h"
 #include "illum/scene/scene.h"
@@ -22,6 +24,21 @@ inline gpu::Context& context() {
   }();
   return *c;
 }
+
+// A test on that context that fails if the validation layers report anything while it runs.
+class ValidatedVulkanTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(context().validation_enabled()) << "VK_LAYER_KHRONOS_validation is required";
+    before_ = context().validation_message_count();
+  }
+  void TearDown() override {
+    EXPECT_EQ(context().validation_message_count(), before_) << "validation messages were emitted";
+  }
+
+ private:
+  size_t before_ = 0;
+};
 
 inline void add_quad(Scene& s, vec3 a, vec3 b, vec3 c, vec3 d, int material) {
   Mesh m;
