@@ -31,6 +31,7 @@
 
 #include "illum/core/image.h"
 #include "illum/core/rng.h"
+#include "test_support/error_within.h"
 
 namespace illum {
 namespace {
@@ -84,32 +85,7 @@ void put_u16be(Bytes& b, size_t at, uint16_t v) {
   b[at + 1] = static_cast<uint8_t>(v);
 }
 
-// Runs `f` on a worker thread and returns the illum::Error it throws ("" and a failure if
-// none). A decoder that loops forever fails the test after `seconds` and ends the process
-// (the thread cannot be stopped), so a regression fails instead of stalling CI.
-std::string error_within(double seconds, const std::function<void()>& f) {
-  std::packaged_task<std::string()> task([f] {
-    try {
-      f();
-    } catch (const Error& e) {
-      return std::string(e.what());
-    } catch (const std::exception& e) {
-      return std::string("not an illum::Error: ") + e.what();
-    }
-    return std::string();
-  });
-  auto result = task.get_future();
-  std::thread worker(std::move(task));
-  if (result.wait_for(std::chrono::duration<double>(seconds)) != std::future_status::ready) {
-    std::fprintf(stderr, "FAILED: the decoder did not return within %.0f s (hang)\n", seconds);
-    std::fflush(stderr);
-    std::_Exit(1);
-  }
-  worker.join();
-  const std::string message = result.get();
-  EXPECT_FALSE(message.empty()) << "no illum::Error was thrown";
-  return message;
-}
+using test::error_within;
 
 std::string decode_error(const Bytes& bytes, const std::string& name) {
   return error_within(20.0, [&] { decode_image(bytes, name); });

@@ -22,6 +22,7 @@
 #include "illum/core/error.h"
 #include "illum/core/image.h"
 #include "illum/scene/load.h"
+#include "test_support/error_within.h"
 #include "test_util.h"
 
 namespace illum {
@@ -30,31 +31,7 @@ namespace {
 using test::contains;
 using test::TempDir;
 
-// Runs `f` on a worker thread and returns the illum::Error it throws ("" and a failure if
-// none). A hang fails the test after `seconds` and ends the process, so CI does not stall.
-std::string error_within(double seconds, const std::function<void()>& f) {
-  std::packaged_task<std::string()> task([f] {
-    try {
-      f();
-    } catch (const Error& e) {
-      return std::string(e.what());
-    } catch (const std::exception& e) {
-      return std::string("not an illum::Error: ") + e.what();
-    }
-    return std::string();
-  });
-  auto result = task.get_future();
-  std::thread worker(std::move(task));
-  if (result.wait_for(std::chrono::duration<double>(seconds)) != std::future_status::ready) {
-    std::fprintf(stderr, "FAILED: loading did not return within %.0f s (hang)\n", seconds);
-    std::fflush(stderr);
-    std::_Exit(1);
-  }
-  worker.join();
-  const std::string message = result.get();
-  EXPECT_FALSE(message.empty()) << "no illum::Error was thrown";
-  return message;
-}
+using test::error_within;
 
 std::string load_error(const std::string& path, const LoadOptions& options = {}) {
   return error_within(30.0, [&] { load_scene(path, options); });
