@@ -462,6 +462,28 @@ TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
 namespace illum::realtime {
 namespace {
 
+// 1 where a pixel or one of its 8 neighbours sees another surface of the reference (kSize²).
+std::vector<uint8_t> geometry_edges(const test::Reference& ref) {
+  std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = std::clamp(x + dx, 0, kSize - 1), yy = std::clamp(y + dy, 0, kSize - 1);
+          if (ref.surface[static_cast<size_t>(yy) * kSize + xx] !=
+              ref.surface[static_cast<size_t>(y) * kSize + x])
+            edge[static_cast<size_t>(y) * kSize + x] = 1;
+        }
+  return edge;
+}
+
+double mean_luminance(const Image& image) {
+  double mean = 0.0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) mean += luminance(image.rgb(x, y));
+  return mean / (kSize * kSize);
+}
+
 // The deferred path (G-buffer + light volumes with the stencil trick, or a full-screen pass
 // for lights without a radius) shades with the same functions as the forward path: the
 // HDR images agree to fp16 precision away from geometry edges.
@@ -563,21 +585,9 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   };
   const Image forward = render("forward");
   const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
-  std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
   // Geometry edges only (shadows are identical lookups in both paths).
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = std::clamp(x + dx, 0, kSize - 1), yy = std::clamp(y + dy, 0, kSize - 1);
-          if (ref.surface[static_cast<size_t>(yy) * kSize + xx] !=
-              ref.surface[static_cast<size_t>(y) * kSize + x])
-            edge[static_cast<size_t>(y) * kSize + x] = 1;
-        }
-  double mean = 0.0;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
-  mean /= kSize * kSize;
+  const std::vector<uint8_t> edge = geometry_edges(ref);
+  const double mean = mean_luminance(forward);
   // Both deferred lighting paths: the compute pass and the light volumes (stencil trick).
   for (const std::string lighting : {"compute", "volumes"}) {
     const char* name = lighting.c_str();
@@ -634,20 +644,9 @@ TEST_F(RealtimeTest, VisibilityMatchesForwardAndDeferred) {
   const Image deferred = render("deferred");
   const Image visibility = render("visibility");
   const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
-  std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = std::clamp(x + dx, 0, kSize - 1), yy = std::clamp(y + dy, 0, kSize - 1);
-          if (ref.surface[static_cast<size_t>(yy) * kSize + xx] !=
-              ref.surface[static_cast<size_t>(y) * kSize + x])
-            edge[static_cast<size_t>(y) * kSize + x] = 1;
-        }
-  double mean = 0.0;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
-  mean /= kSize * kSize;
+  // Geometry edges only (shadows are identical lookups in both paths).
+  const std::vector<uint8_t> edge = geometry_edges(ref);
+  const double mean = mean_luminance(forward);
   ASSERT_GT(mean, 0.0);
   const float fp16 = 1.0f / 1024.0f, bound = 0.01f;
   const Agreement tight = compare(visibility, forward, edge, fp16, fp16 * static_cast<float>(mean));
