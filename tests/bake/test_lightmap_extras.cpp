@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -29,6 +30,22 @@ namespace {
 
 using bake::LightmapExtras;
 using bake::LightmapExtrasOptions;
+
+// The built-in Cornell box charted at `resolution` texels, with its tracer and texel raster.
+struct ChartedCornell {
+  explicit ChartedCornell(int resolution) : scene(load_scene("cornell")) {
+    atlas::make_meshes_unique(scene);
+    atlas::AtlasOptions options;
+    options.resolution = resolution;
+    const atlas::Atlas a = atlas::build_atlas(scene, options);
+    atlas::apply_atlas(scene, a);
+    tracer = std::make_unique<RayTracer>(scene);
+    raster = atlas::rasterize_texels(scene, a.width, a.height);
+  }
+  Scene scene;
+  std::unique_ptr<RayTracer> tracer;
+  atlas::TexelRaster raster;
+};
 
 constexpr double kZ = 5.0;
 constexpr double kNetFactor = 2.0;  // Owen's bound for a scrambled (0,2)-sequence, base 2
@@ -288,14 +305,10 @@ TEST(LightmapExtras, AoAgreesWithTheAoIntegratorOnCornell) {
   // variances, times kNetFactor), p estimated by the pooled mean; where the pooled p is 0
   // or 1 both estimates must be equal. Then the sum of all differences against the sum of
   // the variances, which catches a small shift every texel hides in its own noise.
-  Scene s = load_scene("cornell");
-  atlas::make_meshes_unique(s);
-  atlas::AtlasOptions ao_opts;
-  ao_opts.resolution = 32;
-  const atlas::Atlas a = atlas::build_atlas(s, ao_opts);
-  atlas::apply_atlas(s, a);
-  const RayTracer tracer(s);
-  const atlas::TexelRaster raster = atlas::rasterize_texels(s, a.width, a.height);
+  const ChartedCornell cornell(32);
+  const Scene& s = cornell.scene;
+  const RayTracer& tracer = *cornell.tracer;
+  const atlas::TexelRaster& raster = cornell.raster;
   const int rays = 256, spp = 4, samples = 64;
   LightmapExtrasOptions o = all_extras(rays);
   o.obscurance = o.bent_normal = false;
@@ -333,14 +346,10 @@ TEST(LightmapExtras, GlobalLinesAgainstPerTexelOnCornellAtEqualRays) {
   // per-texel map at the same number of ray queries, each against a per-texel reference at
   // 16× the rays, RMSE over texels the lines reached. The check: global lines leave no
   // reached texel outside [0, 1] and reach most texels.
-  Scene s = load_scene("cornell");
-  atlas::make_meshes_unique(s);
-  atlas::AtlasOptions ao_opts;
-  ao_opts.resolution = 48;
-  const atlas::Atlas a = atlas::build_atlas(s, ao_opts);
-  atlas::apply_atlas(s, a);
-  const RayTracer tracer(s);
-  const atlas::TexelRaster raster = atlas::rasterize_texels(s, a.width, a.height);
+  const ChartedCornell cornell(48);
+  const Scene& s = cornell.scene;
+  const RayTracer& tracer = *cornell.tracer;
+  const atlas::TexelRaster& raster = cornell.raster;
   const int rays = 32;
   LightmapExtrasOptions o = all_extras(rays);
   o.ao = o.bent_normal = false;
@@ -376,20 +385,17 @@ TEST(LightmapExtras, GlobalLinesAgainstPerTexelOnCornellAtEqualRays) {
   std::printf(
       "cornell %dx%d, %zu texels, d_max 0.3: per texel %d rays: %lld rays %.3fs, RMSE %.4f; "
       "global lines %d dirs x %lld lines: %lld rays %.3fs, RMSE %.4f, %zu texels reached\n",
-      a.width, a.height, raster.covered(), rays, (long long)per_texel.rays, per_texel.seconds,
-      std::sqrt(e_pt / double(reached)), g.directions, (long long)g.lines_per_direction,
-      (long long)gl.rays, gl.seconds, std::sqrt(e_gl / double(reached)), reached);
+      raster.width, raster.height, raster.covered(), rays, (long long)per_texel.rays,
+      per_texel.seconds, std::sqrt(e_pt / double(reached)), g.directions,
+      (long long)g.lines_per_direction, (long long)gl.rays, gl.seconds,
+      std::sqrt(e_gl / double(reached)), reached);
 }
 
 TEST(LightmapExtras, ByteIdenticalForOneAndTwoThreads) {
-  Scene s = load_scene("cornell");
-  atlas::make_meshes_unique(s);
-  atlas::AtlasOptions ao_opts;
-  ao_opts.resolution = 32;
-  const atlas::Atlas a = atlas::build_atlas(s, ao_opts);
-  atlas::apply_atlas(s, a);
-  const RayTracer tracer(s);
-  const atlas::TexelRaster raster = atlas::rasterize_texels(s, a.width, a.height);
+  const ChartedCornell cornell(32);
+  const Scene& s = cornell.scene;
+  const RayTracer& tracer = *cornell.tracer;
+  const atlas::TexelRaster& raster = cornell.raster;
   std::vector<Image> maps[2];
   for (int threads : {1, 2}) {
     LightmapExtrasOptions o = all_extras(16);
