@@ -4,8 +4,11 @@
 #include "common.glsl"
 
 layout(location = 0) in vec3 in_position;
+// SceneDrawer draws a cluster with its first triangle in the mesh as the first instance.
+layout(location = 0) flat out uint first_triangle;
 
 void main() {
   vec4 world = push.model * vec4(in_position, 1.0);
   gl_Position = frame.view_proj * world;
+  first_triangle = uint(gl_InstanceIndex);
 }

@@ -148,6 +148,7 @@ void run_frame(const FrameArgs& args) {
                          {"count", count}});
       }
       work[{t.name, t.depth}] = {{"fills", fills}, {"bytes", t.bytes}, {"triangles", t.triangles}};
+      if (t.rasterized >= 0.0) work[{t.name, t.depth}]["rasterized_triangles"] = t.rasterized;
     }
 
   std::printf(

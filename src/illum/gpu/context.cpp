@@ -300,6 +300,8 @@ void Context::create_device(bool swapchain) {
   features.features.geometryShader = have.features.geometryShader;
   primitive_id_ = have.features.geometryShader == VK_TRUE;
   features.features.occlusionQueryPrecise = have.features.occlusionQueryPrecise;
+  features.features.pipelineStatisticsQuery = have.features.pipelineStatisticsQuery;
+  pipeline_statistics_ = have.features.pipelineStatisticsQuery == VK_TRUE;
   occlusion_query_precise_ = have.features.occlusionQueryPrecise == VK_TRUE;
   if (!have.features.imageCubeArray)
     throw Error(fmt::format(

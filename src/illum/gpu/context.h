@@ -57,6 +57,8 @@ class Context {
   bool primitive_id() const { return primitive_id_; }
   // Occlusion queries count exact samples (counting frames of illum-bench raster).
   bool occlusion_query_precise() const { return occlusion_query_precise_; }
+  // Pipeline statistics queries (counting frames: the triangles that reach rasterization).
+  bool pipeline_statistics() const { return pipeline_statistics_; }
   bool timestamps() const { return timestamp_period_ns_ > 0.0f; }
   float timestamp_period_ns() const { return timestamp_period_ns_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -95,6 +97,7 @@ class Context {
   bool depth_clamp_ = false;
   bool primitive_id_ = false;
   bool occlusion_query_precise_ = false;
+  bool pipeline_statistics_ = false;
   float timestamp_period_ns_ = 0.0f;
   mutable std::mutex messages_mutex_;
   std::vector<std::string> messages_;

@@ -35,6 +35,7 @@ GpuTimer::GpuTimer(Context& context, uint32_t max_scopes)
 GpuTimer::~GpuTimer() {
   if (pool_) vkDestroyQueryPool(context_->device(), pool_, nullptr);
   if (occlusion_) vkDestroyQueryPool(context_->device(), occlusion_, nullptr);
+  if (statistics_) vkDestroyQueryPool(context_->device(), statistics_, nullptr);
 }
 
 void GpuTimer::create_pool() {
@@ -63,9 +64,11 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
   bytes_.clear();
   triangles_.clear();
   counts_.clear();
+  rasterized_scopes_.clear();
   open_ = 0;
   if (pool_) vkCmdResetQueryPool(cmd, pool_, 0, 2 * max_scopes_);
   if (counting_ && occlusion_) vkCmdResetQueryPool(cmd, occlusion_, 0, occlusion_capacity_);
+  if (counting_ && statistics_) vkCmdResetQueryPool(cmd, statistics_, 0, occlusion_capacity_);
 }
 
 uint32_t GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
@@ -102,14 +105,35 @@ void GpuTimer::note_triangles(double triangles) {
   if (!stack_.empty()) triangles_[stack_.back()] += triangles;
 }
 
-void GpuTimer::set_counting(bool on) {
+void GpuTimer::set_counting(bool on, bool statistics) {
   counting_ = on;
+  statistics_on_ = statistics;
   if (!on || occlusion_) return;
   occlusion_capacity_ = 256;
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   info.queryType = VK_QUERY_TYPE_OCCLUSION;
   info.queryCount = occlusion_capacity_;
   ILLUM_VK(vkCreateQueryPool(context_->device(), &info, nullptr, &occlusion_));
+  if (!context_->pipeline_statistics()) return;
+  info.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
+  info.pipelineStatistics = VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT;
+  ILLUM_VK(vkCreateQueryPool(context_->device(), &info, nullptr, &statistics_));
+}
+
+uint32_t GpuTimer::begin_rasterized(VkCommandBuffer cmd) {
+  if (!counting() || !statistics_ || !statistics_on_) return ~0u;
+  ILLUM_CHECK(rasterized_scopes_.size() < occlusion_capacity_,
+              "more than {} counted draws in one frame", occlusion_capacity_);
+  const uint32_t query = static_cast<uint32_t>(rasterized_scopes_.size());
+  rasterized_scopes_.push_back(stack_.empty() ? ~0u : stack_.back());
+  vkCmdBeginQuery(cmd, statistics_, query, 0);
+  return query;
+}
+
+void GpuTimer::end_rasterized(VkCommandBuffer cmd, uint32_t query) {
+  if (query == ~0u) return;
+  ILLUM_CHECK(query < rasterized_scopes_.size(), "end_rasterized without begin_rasterized");
+  vkCmdEndQuery(cmd, statistics_, query);
 }
 
 uint32_t GpuTimer::begin_count(VkCommandBuffer cmd) {
@@ -158,6 +182,19 @@ std::vector<PassTime> GpuTimer::resolve() const {
       const double less = c.minus >= 0 ? static_cast<double>(samples[c.minus]) : 0.0;
       const double n = std::max(0.0, static_cast<double>(samples[q]) - less);
       out[c.scope].fills.emplace_back(c.fill, area > 0.0 ? n / area : 0.0);
+    }
+  }
+  if (counting() && !rasterized_scopes_.empty()) {
+    std::vector<uint64_t> primitives(rasterized_scopes_.size());
+    ILLUM_VK(vkGetQueryPoolResults(
+        context_->device(), statistics_, 0, static_cast<uint32_t>(primitives.size()),
+        primitives.size() * sizeof(uint64_t), primitives.data(), sizeof(uint64_t),
+        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    for (size_t q = 0; q < primitives.size(); ++q) {
+      const uint32_t scope = rasterized_scopes_[q];
+      if (scope >= out.size()) continue;
+      out[scope].rasterized =
+          std::max(0.0, out[scope].rasterized) + static_cast<double>(primitives[q]);
     }
   }
   return out;

@@ -53,6 +53,9 @@ struct PassTime {
   std::vector<std::pair<RasterFill, double>> fills;
   double bytes = 0.0;
   double triangles = 0.0;  // triangles submitted (scene draws: every view's)
+  // Of those, the ones that reached rasterization (out of clipping; counting frames on a
+  // device with pipeline statistics; −1: not counted).
+  double rasterized = -1.0;
 };
 
 class GpuTimer {
@@ -78,7 +81,8 @@ class GpuTimer {
   void note_triangles(double triangles);
   // Counting frames: from the next reset() on, begin_count/end_count record occlusion queries
   // (precise where the device has occlusionQueryPrecise); otherwise they record nothing.
-  void set_counting(bool on);
+  // `statistics`: also count rasterized triangles (begin_rasterized), where the device can.
+  void set_counting(bool on, bool statistics = true);
   bool counting() const { return counting_ && occlusion_ != VK_NULL_HANDLE; }
   // Occlusion queries around depth-tested draws: not on a software device (lavapipe crashes
   // on them in frames that also build stencil shadow volumes on the GPU).
@@ -89,6 +93,11 @@ class GpuTimer {
   // those that passed: the rejected ones).
   uint32_t begin_count(VkCommandBuffer cmd);
   void end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample, int minus = -1);
+  // Inside a counting frame on a device with pipeline statistics: the primitives of the draws
+  // recorded until end_rasterized() that leave clipping add to the innermost open scope's
+  // `rasterized` (otherwise both record nothing).
+  uint32_t begin_rasterized(VkCommandBuffer cmd);
+  void end_rasterized(VkCommandBuffer cmd, uint32_t query);
 
  private:
   void create_pool();
@@ -105,6 +114,7 @@ class GpuTimer {
   std::vector<double> triangles_;                                  // per scope
   // Counting frames.
   bool counting_ = false;
+  bool statistics_on_ = false;
   VkQueryPool occlusion_ = VK_NULL_HANDLE;
   uint32_t occlusion_capacity_ = 0;
   struct Count {
@@ -113,6 +123,8 @@ class GpuTimer {
     int minus = -1;
   };
   std::vector<Count> counts_;
+  VkQueryPool statistics_ = VK_NULL_HANDLE;
+  std::vector<uint32_t> rasterized_scopes_;  // per statistics query
 };
 
 }  // namespace illum::gpu

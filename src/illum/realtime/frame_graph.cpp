@@ -240,6 +240,14 @@ void PassContext::end_count(uint32_t query, const gpu::RasterFill& per_sample, i
   if (counting()) timer_->end_count(cmd_, query, per_sample, minus);
 }
 
+uint32_t PassContext::begin_rasterized() {
+  return counting() ? timer_->begin_rasterized(cmd_) : ~0u;
+}
+
+void PassContext::end_rasterized(uint32_t query) {
+  if (counting()) timer_->end_rasterized(cmd_, query);
+}
+
 bool PassContext::counts_tested() const {
   return counting() && timer_->counts_tested();
 }

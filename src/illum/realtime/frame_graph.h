@@ -205,6 +205,10 @@ class PassContext {
   bool counts_tested() const;
   // Triangles the innermost open scope submitted (its geometry bound).
   void triangles(double count);
+  // Counting frames: of the draws recorded between the two calls, the triangles that reach
+  // rasterization (gpu::PassTime::rasterized; nothing where the device cannot count them).
+  uint32_t begin_rasterized();
+  void end_rasterized(uint32_t query);
   // Whether "NAME.previous" holds a frame (false on the first frame after creation).
   bool has_history(const std::string& resource) const;
 

@@ -22,6 +22,18 @@ struct DrawItem {
   uint32_t mesh = 0;
   int material = 0;
   glm::mat4 transform{1.0f};
+  uint32_t first_cluster = 0, cluster_count = 0;  // its clusters in GpuScene::clusters()
+};
+
+// A spatially compact run of one draw's triangles (the mesh's triangles are stored in Morton
+// order of their centroids, so a run of the index buffer is a compact piece of the surface):
+// the unit each view culls against its frustum and sorts front to back. `first_triangle`
+// counts from the mesh's first index (the visibility buffer's triangle ids).
+struct Cluster {
+  uint32_t draw = 0;
+  uint32_t first_index = 0, index_count = 0;
+  uint32_t first_triangle = 0;
+  Bounds3 bounds;  // world space
 };
 
 class GpuScene {
@@ -34,6 +46,7 @@ class GpuScene {
   const gpu::Buffer& materials() const { return materials_; }
   const std::vector<MeshRange>& meshes() const { return meshes_; }
   const std::vector<DrawItem>& draws() const { return draws_; }
+  const std::vector<Cluster>& clusters() const { return clusters_; }
   const std::vector<int>& draw_instances() const { return draw_instances_; }  // per draw
   const std::vector<gpu::GpuImage>& textures() const { return textures_; }
   Bounds3 bounds() const { return bounds_; }
@@ -44,6 +57,7 @@ class GpuScene {
   gpu::Buffer vertices_, indices_, materials_;
   std::vector<MeshRange> meshes_;
   std::vector<DrawItem> draws_;
+  std::vector<Cluster> clusters_;
   std::vector<int> draw_instances_;
   std::vector<gpu::GpuImage> textures_;
   Bounds3 bounds_;

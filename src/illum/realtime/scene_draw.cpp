@@ -45,7 +45,45 @@ VkRenderingAttachmentInfo attachment(VkImageView view, VkImageLayout layout, boo
   return a;
 }
 
+// Whether every corner of `b` lies outside one clip plane of `clip` (then nothing of it can be
+// rasterized); the near and far planes count only when `depth` is true.
+bool outside(const mat4& clip, const Bounds3& b, bool depth) {
+  int below_x = 0, above_x = 0, below_y = 0, above_y = 0, below_z = 0, above_z = 0;
+  for (int k = 0; k < 8; ++k) {
+    const vec3 p((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                 (k & 4) ? b.max.z : b.min.z);
+    const vec4 h = clip * vec4(p, 1.0f);
+    below_x += h.x < -h.w;
+    above_x += h.x > h.w;
+    below_y += h.y < -h.w;
+    above_y += h.y > h.w;
+    below_z += h.z < 0.0f;
+    above_z += h.z > h.w;
+  }
+  return below_x == 8 || above_x == 8 || below_y == 8 || above_y == 8 ||
+         (depth && (below_z == 8 || above_z == 8));
+}
+
 }  // namespace
+
+std::vector<uint32_t> visible_clusters(const GpuScene& scene, const SceneView& view) {
+  const std::vector<Cluster>& clusters = scene.clusters();
+  std::vector<uint32_t> out;
+  out.reserve(clusters.size());
+  for (uint32_t c = 0; c < clusters.size(); ++c)
+    if (!view.cull || !outside(*view.cull, clusters[c].bounds, view.cull_depth)) out.push_back(c);
+  if (view.cull && view.front_to_back) {
+    // Clip-space z of the centre (not divided by w) grows with distance for perspective and
+    // orthographic views alike.
+    std::vector<float> depth(clusters.size());
+    const vec4 row(view.cull->operator[](0)[2], view.cull->operator[](1)[2],
+                   view.cull->operator[](2)[2], view.cull->operator[](3)[2]);
+    for (uint32_t c : out) depth[c] = glm::dot(row, vec4(clusters[c].bounds.center(), 1.0f));
+    std::stable_sort(out.begin(), out.end(),
+                     [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
+  }
+  return out;
+}
 
 void SceneDrawer::begin(VkCommandBuffer cmd, const DrawTargets& t) const {
   std::vector<VkRenderingAttachmentInfo> colors;
@@ -82,22 +120,38 @@ size_t SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
   push.view_index = view.view_index;
   push.light_index = view.light_index;
   push.pad = view.mode;
-  VkDescriptorSet bound = globals_.material_set(0);
-  for (size_t di = 0; di < scene_.draws().size(); ++di) {
-    const DrawItem& d = scene_.draws()[di];
-    if (view.per_draw) push.view_index = static_cast<int>(di);
-    push.model = d.transform;
-    push.material = globals_.material_index(d.material);
-    const VkDescriptorSet material = globals_.material_set(push.material);
-    if (material != bound || di == 0) {
-      bound = material;
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, kMaterialSet, 1,
-                              &material, 0, nullptr);
+  const std::vector<uint32_t> order = visible_clusters(scene_, view);
+  const std::vector<Cluster>& clusters = scene_.clusters();
+  VkDescriptorSet bound = VK_NULL_HANDLE;
+  int pushed_draw = -1;
+  for (size_t k = 0; k < order.size();) {
+    const Cluster& first = clusters[order[k]];
+    // Runs of clusters adjacent in the index buffer go out as one draw.
+    uint32_t count = first.index_count;
+    size_t next = k + 1;
+    while (next < order.size() && order[next] == order[next - 1] + 1 &&
+           clusters[order[next]].draw == first.draw) {
+      count += clusters[order[next]].index_count;
+      ++next;
     }
-    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-    const MeshRange& r = scene_.meshes()[d.mesh];
-    vkCmdDrawIndexed(cmd, r.index_count, 1, r.first_index, r.vertex_offset, 0);
-    triangles += r.index_count / 3;
+    const DrawItem& d = scene_.draws()[first.draw];
+    if (pushed_draw != static_cast<int>(first.draw)) {
+      pushed_draw = static_cast<int>(first.draw);
+      if (view.per_draw) push.view_index = static_cast<int>(first.draw);
+      push.model = d.transform;
+      push.material = globals_.material_index(d.material);
+      const VkDescriptorSet material = globals_.material_set(push.material);
+      if (material != bound) {
+        bound = material;
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, kMaterialSet, 1,
+                                &material, 0, nullptr);
+      }
+      vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    }
+    vkCmdDrawIndexed(cmd, count, 1, first.first_index, scene_.meshes()[d.mesh].vertex_offset,
+                     first.first_triangle);
+    triangles += count / 3;
+    k = next;
   }
   return triangles;
 }
@@ -123,7 +177,9 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   // build shadow volumes on the GPU: there every fragment counts as rejected (a lower bound).
   const bool split = pass.counts_tested();
   const uint32_t passed = split ? pass.begin_count() : 0;
+  const uint32_t rasterized = pass.begin_rasterized();
   pass.triangles(static_cast<double>(draw(cmd, variant, layout, sets, view)));
+  pass.end_rasterized(rasterized);
   if (split) pass.end_count(passed, passing);
   end(cmd);
   if (!pass.counting()) return;

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <initializer_list>
+#include <optional>
 #include <vector>
 
 #include "illum/gpu/gpu_timer.h"
@@ -41,12 +42,36 @@ struct DrawTargets {
 // light; colour passes (per_draw) push each draw's index instead, for per-draw data such as
 // the ambient cube (baked.glsl). `mode` goes to push.pad (forward.frag: 0 all lights,
 // 1 emission + ambient only, 2 the one light light_index, unshadowed).
+//
+// `cull`, when set, is the view's clip transform (world to clip): clusters wholly outside its
+// clip volume are not drawn — exactly what the clipper would discard, so the image does not
+// change. A pipeline with depth clamp keeps what lies beyond the near and far planes
+// (`cull_depth` false). `front_to_back` draws the clusters nearest the view first, so the
+// depth test rejects what they hide before it is shaded or written (depth, visibility and
+// shadow passes); passes that test against a finished depth keep the material order.
+// A draw's first instance (gl_InstanceIndex) is its first triangle within the mesh, so
+// gl_InstanceIndex + gl_PrimitiveID numbers the mesh's triangles whatever the clusters drawn.
 struct SceneView {
   int view_index = 0;
   int light_index = 0;
   int mode = 0;
   bool per_draw = true;
+  std::optional<mat4> cull;
+  bool cull_depth = true;
+  bool front_to_back = false;
+
+  // A colour or depth pass from the camera (`view_proj`: the frame's).
+  static SceneView camera(const mat4& view_proj, bool front_to_back) {
+    SceneView v;
+    v.cull = view_proj;
+    v.front_to_back = front_to_back;
+    return v;
+  }
 };
+
+// The clusters `view` draws, in the order it draws them (every cluster, in draw order, when
+// the view neither culls nor sorts).
+std::vector<uint32_t> visible_clusters(const GpuScene& scene, const SceneView& view);
 
 class SceneDrawer {
  public:

@@ -235,8 +235,9 @@ class Deferred final : public FramePipeline {
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
     ctx_.drawer.render_counted(
-        pass, t, prepass_, prepass_count_, layout_.handle(), ctx_.shading_sets(set_), SceneView{},
-        {w, h, {}, ctx_.depth_format, D::kWrite}, {w, h, {}, ctx_.depth_format, D::kReject});
+        pass, t, prepass_, prepass_count_, layout_.handle(), ctx_.shading_sets(set_),
+        SceneView::camera(ctx_.view().view_proj, true), {w, h, {}, ctx_.depth_format, D::kWrite},
+        {w, h, {}, ctx_.depth_format, D::kReject});
   }
 
   void record_gbuffer(PassContext& pass) {
@@ -252,8 +253,9 @@ class Deferred final : public FramePipeline {
     const uint32_t w = t.extent.width, h = t.extent.height;
     const std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
     ctx_.drawer.render_counted(
-        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_), SceneView{},
-        {w, h, mrt, ctx_.depth_format, D::kTest}, {w, h, mrt, ctx_.depth_format, D::kReject});
+        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_),
+        SceneView::camera(ctx_.view().view_proj, false), {w, h, mrt, ctx_.depth_format, D::kTest},
+        {w, h, mrt, ctx_.depth_format, D::kReject});
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.

@@ -75,7 +75,8 @@ class Forward final : public FramePipeline {
       t.extent = extent;
       using D = gpu::RasterFill::Depth;
       ctx_.drawer.render_counted(pass, t, prepass_, prepass_count_, ctx_.globals.default_layout(),
-                                 ctx_.shading_sets(), SceneView{},
+                                 ctx_.shading_sets(),
+                                 SceneView::camera(ctx_.view().view_proj, true),
                                  {extent.width, extent.height, {}, ctx_.depth_format, D::kWrite},
                                  {extent.width, extent.height, {}, ctx_.depth_format, D::kReject});
     };
@@ -94,7 +95,7 @@ class Forward final : public FramePipeline {
       t.clear_depth = false;
       t.stencil = true;
       t.extent = extent;
-      SceneView view;
+      SceneView view = SceneView::camera(ctx_.view().view_proj, false);
       view.mode = masked_ ? 1 : 0;
       using D = gpu::RasterFill::Depth;
       const uint32_t w = extent.width, h = extent.height;
@@ -107,7 +108,7 @@ class Forward final : public FramePipeline {
   }
 
   void record_masked_light(PassContext& pass, int light) override {
-    SceneView view;
+    SceneView view = SceneView::camera(ctx_.view().view_proj, false);
     view.light_index = light;
     view.mode = 2;  // forward.frag: only this light, no shadow-map lookup (the stencil masks)
     vkCmdSetStencilReference(pass.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);

@@ -229,6 +229,7 @@ class ShadowMaps final : public ShadowMethod {
     }
     if (views.empty()) views.emplace_back(1.0f);
     views_.write(views.data(), views.size() * sizeof(glm::mat4));
+    view_matrices_ = std::move(views);
     shadow_lights_.write(sl.data(), sl.size() * sizeof(GpuShadowLight));
     uniforms_.write(&u, sizeof(u));
   }
@@ -258,6 +259,9 @@ class ShadowMaps final : public ShadowMethod {
     v.view_index = view;
     v.light_index = light;
     v.per_draw = false;
+    v.cull = view_matrices_.at(static_cast<size_t>(view));
+    v.cull_depth = &pipeline != &ortho_;  // the cascades clamp casters behind their near plane
+    v.front_to_back = true;
     using D = gpu::RasterFill::Depth;
     ctx_.drawer.render_counted(
         pass, t, pipeline, counter, ctx_.globals.default_layout(),
@@ -273,12 +277,27 @@ class ShadowMaps final : public ShadowMethod {
   glm::vec4 update_cascades(std::vector<glm::mat4>* views, glm::vec4* half_widths) const {
     const FrameView& fv = ctx_.view();
     const Camera& camera = fv.camera;
-    const float near_plane = fv.near_plane, far_plane = fv.far_plane, aspect = fv.aspect;
+    const float near_plane = fv.near_plane, aspect = fv.aspect;
+    float far_plane = fv.far_plane;
     const Light& l = ctx_.lights()[static_cast<size_t>(cascade_light_)];
     const vec3 dir = glm::normalize(l.direction);
     const mat4 inv_view = glm::inverse(camera.view_matrix());
     const float tan_half = std::tan(0.5f * camera.fov_y);
     const float scene_extent = ctx_.scene.bounds().diagonal();
+    // The splits divide the part of the view depth that can hold geometry: up to the scene's
+    // farthest bounding-box corner (not the camera's far plane, which may lie far beyond it and
+    // would stretch the first cascade over most of the scene). Rounded up to a quarter octave so
+    // the cascades keep their size, and their texel grid, while the camera moves a little.
+    float depth_max = near_plane;
+    const Bounds3 b = ctx_.scene.bounds();
+    for (int c = 0; c < 8; ++c) {
+      const vec3 p((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y,
+                   (c & 4) ? b.max.z : b.min.z);
+      depth_max = std::max(depth_max, -(camera.view_matrix() * vec4(p, 1.0f)).z);
+    }
+    const float octaves =
+        std::ceil(4.0f * std::log2(std::max(depth_max / near_plane, 2.0f))) / 4.0f;
+    far_plane = std::min(far_plane, near_plane * std::exp2(octaves));
     glm::vec4 splits(far_plane);
     float prev = near_plane;
     for (int k = 0; k < kCascades; ++k) {
@@ -324,6 +343,7 @@ class ShadowMaps final : public ShadowMethod {
   int cascade_light_ = -1;
   gpu::Pipeline radial_, ortho_, radial_count_, ortho_count_;
   gpu::Buffer views_, shadow_lights_, uniforms_;
+  std::vector<glm::mat4> view_matrices_;  // views_'s contents, for culling on the CPU
   gpu::DescriptorAllocator descriptors_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };

@@ -195,7 +195,7 @@ class Visibility final : public FramePipeline {
     t.depth = ctx_.resources.image("depth").layer_view(0);
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
-    SceneView view;
+    SceneView view = SceneView::camera(ctx_.view().view_proj, true);
     view.mode = packing_.triangle_bits;  // push.pad, read by visibility.frag
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
