@@ -67,6 +67,7 @@ gpu::RasterFill fill_from_json(const nlohmann::json& j, const std::string& file)
       throw Error(fmt::format("{}: unknown depth mode {}", file, depth));
     f.depth = static_cast<Depth>(depth);
     f.blend = j.at("blend").get<bool>();
+    f.uncleared = j.value("uncleared", 0u);
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("{}: a pass's work is malformed ({})", file, e.what()));
   }
@@ -168,11 +169,13 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
         c.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, color_stage, color_access);
       if (depth) depth.transition(cmd, ds, ds_stages, ds_access);
       std::vector<VkRenderingAttachmentInfo> attachments;
-      for (const gpu::GpuImage& c : colors) {
+      for (size_t i = 0; i < colors.size(); ++i) {
+        const gpu::GpuImage& c = colors[i];
         VkRenderingAttachmentInfo a{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
         a.imageView = c.view();
         a.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        a.loadOp =
+            (f.uncleared >> i) & 1u ? VK_ATTACHMENT_LOAD_OP_DONT_CARE : VK_ATTACHMENT_LOAD_OP_CLEAR;
         a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
         attachments.push_back(a);
       }
@@ -442,8 +445,8 @@ int run_raster(SuiteArgs args) {
           // the cheapest rejection there is (hierarchical Z discards whole tiles of it),
           // is charged. (Charging a whole rejected layer's time, fixed cost included, gave
           // ratios below 1: docs/realtime.md.)
-          r.raster_ms += (rejected(fill) ? 0.0 : fixed_ms.at(fill.key())) +
-                         count * bound_ms.at(fill.key());
+          r.raster_ms +=
+              (rejected(fill) ? 0.0 : fixed_ms.at(fill.key())) + count * bound_ms.at(fill.key());
           auto it = std::find_if(counts.begin(), counts.end(),
                                  [&](const auto& c) { return c.first == fill.key(); });
           if (it == counts.end())

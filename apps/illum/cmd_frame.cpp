@@ -145,6 +145,7 @@ void run_frame(const FrameArgs& args) {
                          {"depth_format", f.depth_format},
                          {"depth", static_cast<int>(f.depth)},
                          {"blend", f.blend},
+                         {"uncleared", f.uncleared},
                          {"count", count}});
       }
       work[{t.name, t.depth}] = {{"fills", fills}, {"bytes", t.bytes}, {"triangles", t.triangles}};

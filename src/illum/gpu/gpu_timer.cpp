@@ -21,10 +21,13 @@ std::string RasterFill::key() const {
                     : depth == Depth::kReject       ? " reject"
                     : depth == Depth::kStencilZFail ? " zfail"
                                                     : "";
+  std::string kept;
+  for (size_t i = 0; i < colors.size(); ++i)
+    if (uncleared & (1u << i)) kept += std::to_string(i);
   return fmt::format(
-      "{}x{} {}{}{}", width, height,
+      "{}x{} {}{}{}{}", width, height,
       formats.empty() ? std::string("none") : fmt::format("{}", fmt::join(formats, "+")), how,
-      blend ? " blend" : "");
+      blend ? " blend" : "", kept.empty() ? "" : " uncleared:" + kept);
 }
 
 GpuTimer::GpuTimer(Context& context, uint32_t max_scopes)

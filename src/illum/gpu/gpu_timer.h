@@ -36,6 +36,9 @@ struct RasterFill {
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
   Depth depth = Depth::kNone;
   bool blend = false;
+  // Bit i: colour i starts undefined instead of cleared (a target the pass writes wherever
+  // anything later reads it). Clearing a 1080p target costs 0.15–0.26 ms on the H200.
+  uint32_t uncleared = 0;
 
   bool operator==(const RasterFill& other) const = default;
   // "1920x1080 rgba16f+d32s8 test blend": the configuration as one line.

@@ -90,6 +90,7 @@ void SceneDrawer::begin(VkCommandBuffer cmd, const DrawTargets& t) const {
   for (const DrawTargets::Color& c : t.colors) {
     colors.push_back(attachment(c.view, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, c.clear));
     colors.back().clearValue.color = c.value;
+    if (c.undefined) colors.back().loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
   }
   VkRenderingAttachmentInfo depth =
       attachment(t.depth, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, t.clear_depth);
@@ -185,7 +186,7 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   if (!pass.counting()) return;
   // Everything rasterized, drawn again untested into the kept targets.
   DrawTargets again = targets;
-  for (DrawTargets::Color& c : again.colors) c.clear = false;
+  for (DrawTargets::Color& c : again.colors) c.clear = c.undefined = false;
   again.clear_depth = false;
   begin(cmd, again);
   const uint32_t all = pass.begin_count();

@@ -29,6 +29,9 @@ struct DrawTargets {
     VkImageView view = VK_NULL_HANDLE;
     bool clear = true;
     VkClearColorValue value{};
+    // Neither cleared nor loaded: for targets the pass writes at every pixel that anything
+    // reads later (the G-buffer where the depth is not 1). Their clear is a fixed cost.
+    bool undefined = false;
   };
   std::vector<Color> colors;
   VkImageView depth = VK_NULL_HANDLE;  // a view with every aspect of a depth(-stencil) image

@@ -22,6 +22,7 @@ namespace {
 // Compact G-buffer (frame_targets.h), 20 bytes a pixel plus the HDR target (was 28 + 8 in
 // four fp16 targets).
 const auto& kTargets = kGbufferTargets;
+constexpr uint32_t kUncleared = 0b0111;  // the three G-buffer targets of the MRT set
 
 // Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
 void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
@@ -243,7 +244,9 @@ class Deferred final : public FramePipeline {
   void record_gbuffer(PassContext& pass) {
     FrameResources& r = ctx_.resources;
     DrawTargets t;
-    for (const char* name : kTargets) t.colors.push_back({r.image(name).view(), true, {}});
+    // The G-buffer targets are read only where the depth is below 1, which this pass writes:
+    // they start undefined. The HDR target is cleared (the background shows it).
+    for (const char* name : kTargets) t.colors.push_back({r.image(name).view(), false, {}, true});
     t.colors.push_back({r.image("hdr").view(), true, {}});
     t.depth = r.image("depth").layer_view(0);
     t.clear_depth = false;
@@ -252,10 +255,11 @@ class Deferred final : public FramePipeline {
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
     const std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
-    ctx_.drawer.render_counted(
-        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_),
-        SceneView::camera(ctx_.view().view_proj, false), {w, h, mrt, ctx_.depth_format, D::kTest},
-        {w, h, mrt, ctx_.depth_format, D::kReject});
+    ctx_.drawer.render_counted(pass, t, gbuffer_, gbuffer_count_, layout_.handle(),
+                               ctx_.shading_sets(set_),
+                               SceneView::camera(ctx_.view().view_proj, false),
+                               {w, h, mrt, ctx_.depth_format, D::kTest, false, kUncleared},
+                               {w, h, mrt, ctx_.depth_format, D::kReject, false, kUncleared});
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
