@@ -15,10 +15,10 @@ void main() {
   barrier();
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (all(lessThan(pixel, ivec2(frame.extent.xy)))) {
-    uint id = texelFetch(vis_ids, pixel, 0).r;
-    if (id == kNoId) {
+    if (empty_pixel(pixel)) {
       imageStore(hdr_image, pixel, vec4(0.0));
     } else {
+      uint id = texelFetch(vis_ids, pixel, 0).r;
       uint slot = uint(draws[id >> uint(push.pad)].info.w);
       atomicOr(slots[slot >> 5], 1u << (slot & 31u));
     }

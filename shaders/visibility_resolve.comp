@@ -61,8 +61,8 @@ void main() {
   uint tile = tiles[uint(push.light_index) * tile_count() + gl_WorkGroupID.x];
   ivec2 pixel = ivec2(tile % tiles_x(), tile / tiles_x()) * 8 + ivec2(gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(pixel, ivec2(frame.extent.xy)))) return;
+  if (empty_pixel(pixel)) return;  // written by the classification
   uint id = texelFetch(vis_ids, pixel, 0).r;
-  if (id == kNoId) return;  // written by the classification
   int tri_bits = push.pad;
   uint draw = id >> uint(tri_bits);
   uint triangle = id & ((1u << uint(tri_bits)) - 1u);

@@ -124,15 +124,16 @@ TEST_F(SceneClusters, CullingKeepsEveryClusterTheViewCanSeeAndSortsFrontToBack) 
 }
 
 // The visibility buffer against forward shading on the fine, shuffled floor seen in part
-// (culling on): the same bound as VisibilityMatchesForwardAndDeferred (1 % for 99 % of the
-// pixels off geometry edges), no shadows so the two differ only by how they rebuild the
-// surface.
+// (culling on), and the background around the box (the id target is not cleared: empty
+// pixels are told by their depth): the same bound as VisibilityMatchesForwardAndDeferred (1 %
+// for 99 % of the pixels off geometry edges, floor 1 % of the mean), no shadows so the two
+// differ only by how they rebuild the surface.
 TEST_F(SceneClusters, VisibilityIdsSurviveClusteringAndCulling) {
   Scene scene = cornell_with_fine_floor(48);
   Camera cam;
-  cam.position = vec3(0.5f, 0.6f, 1.4f);
-  cam.look_at = vec3(0.6f, 0.0f, 0.5f);
-  cam.fov_y = radians(40.0f);
+  cam.position = vec3(0.5f, 0.7f, 2.4f);
+  cam.look_at = vec3(0.55f, 0.1f, 0.5f);
+  cam.fov_y = radians(45.0f);
   scene.camera = cam;
   const int size = 96;
   auto render = [&](const std::string& pipeline) {
@@ -152,12 +153,13 @@ TEST_F(SceneClusters, VisibilityIdsSurviveClusteringAndCulling) {
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) mean += luminance(forward.rgb(x, y)) / (size * size);
   ASSERT_GT(mean, 0.0);
-  size_t compared = 0, within = 0, floor_pixels = 0;
+  size_t compared = 0, within = 0, floor_pixels = 0, background = 0;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
       const size_t i = static_cast<size_t>(y) * size + x;
-      if (edge[i] || ref.surface[i] < 0) continue;
+      if (edge[i]) continue;
       floor_pixels += ref.surface[i] == 0;
+      background += ref.surface[i] < 0;
       const Color a = visibility.rgb(x, y), b = forward.rgb(x, y);
       bool ok = true;
       for (int k = 0; k < 3; ++k)
@@ -165,10 +167,13 @@ TEST_F(SceneClusters, VisibilityIdsSurviveClusteringAndCulling) {
       ++compared;
       within += ok;
     }
-  ASSERT_GT(floor_pixels, compared / 3) << "the floor fills much of the view";
+  ASSERT_GT(floor_pixels, compared / 20) << "the floor shows";
+  ASSERT_GT(background, compared / 20) << "the background shows around the box";
   const double fraction = double(within) / double(compared);
-  std::printf("visibility vs forward on a clustered floor: %.4f of %zu pixels within 1%%\n",
-              fraction, compared);
+  std::printf(
+      "visibility vs forward on a clustered floor: %.4f of %zu pixels within 1%% (%zu floor, "
+      "%zu background)\n",
+      fraction, compared, floor_pixels, background);
   EXPECT_GE(fraction, 0.99);
 }
 

@@ -28,7 +28,8 @@ struct VisibilityPacking {
   int triangle_bits = 1;
 };
 // Throws Error naming both counts when `draws` draws of up to `max_triangles` triangles do
-// not fit 32 bits with the all-ones id kept for empty pixels.
+// not fit 32 bits with the all-ones id kept out (a value no draw writes; empty pixels are
+// told by their depth).
 VisibilityPacking visibility_packing(size_t draws, size_t max_triangles);
 
 // 16×16 tiles of the log-average luminance (luminance.cpp); L_avg follows their partials.

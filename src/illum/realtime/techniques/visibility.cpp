@@ -98,7 +98,7 @@ class Visibility final : public FramePipeline {
     const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     set_layout_ = gpu::DescriptorSetLayout(
         ctx.gpu, {B{0, cis}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, B{2, ssbo}, B{3, ssbo},
-                  B{4, ssbo}, B{5, ssbo}, B{6, ssbo}});
+                  B{4, ssbo}, B{5, ssbo}, B{6, ssbo}, B{7, cis}});
     set_ = descriptors_.allocate(set_layout_);
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
     gpu::DescriptorWriter w;
@@ -151,6 +151,7 @@ class Visibility final : public FramePipeline {
     c.technique = name();
     c.phase = Phase::kLighting;
     c.accesses = {{kIds, kSampled, kComputeShader},
+                  {"depth", kSampled, kComputeShader},
                   {"hdr", kStorageWrite, kComputeShader},
                   {kTileArgs, kTransferDst},
                   {kTiles, kStorageWrite, kComputeShader},
@@ -162,6 +163,7 @@ class Visibility final : public FramePipeline {
     r.technique = name();
     r.phase = Phase::kLighting;
     r.accesses = {{kIds, kSampled, kComputeShader},
+                  {"depth", kSampled, kComputeShader},
                   {"hdr", kStorageWrite, kComputeShader},
                   {kTileArgs, kIndirectArgs},
                   {kTiles, kStorageRead, kComputeShader}};
@@ -179,6 +181,9 @@ class Visibility final : public FramePipeline {
                VK_IMAGE_LAYOUT_GENERAL)
         .buffer(set_, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r.buffer(kTileArgs).handle())
         .buffer(set_, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, r.buffer(kTiles).handle())
+        .image(set_, 7, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, r.image("depth").view(),
+               ctx_.globals.nearest().handle(),
+               VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
         .commit(ctx_.gpu.device());
   }
 
@@ -189,9 +194,8 @@ class Visibility final : public FramePipeline {
  private:
   void record_ids(PassContext& pass) {
     DrawTargets t;
-    VkClearColorValue none{};
-    none.uint32[0] = none.uint32[1] = none.uint32[2] = none.uint32[3] = 0xffffffffu;
-    t.colors = {{ctx_.resources.image(kIds).view(), true, none}};
+    // Undefined where nothing is drawn: the classification and the resolve test the depth.
+    t.colors = {{ctx_.resources.image(kIds).view(), false, {}, true}};
     t.depth = ctx_.resources.image("depth").layer_view(0);
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
@@ -201,8 +205,8 @@ class Visibility final : public FramePipeline {
     const uint32_t w = t.extent.width, h = t.extent.height;
     ctx_.drawer.render_counted(pass, t, raster_, raster_count_, ctx_.globals.default_layout(),
                                ctx_.shading_sets(), view,
-                               {w, h, {kIdFormat}, ctx_.depth_format, D::kWrite},
-                               {w, h, {kIdFormat}, ctx_.depth_format, D::kReject});
+                               {w, h, {kIdFormat}, ctx_.depth_format, D::kWrite, false, 1u},
+                               {w, h, {kIdFormat}, ctx_.depth_format, D::kReject, false, 1u});
   }
 
   // Zeroes every slot's tile count (y = z = 1), then classifies the tiles.
