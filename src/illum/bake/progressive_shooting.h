@@ -5,7 +5,8 @@
 // area). A shot takes the chosen patch's n×n neighbourhood on its own surface as one source
 // (summed unshot power at the area-weighted mean position), hands every receiver in front of
 // it the source's power times a point-to-disk form factor if a visibility test passes, and
-// lets the receiver re-emit what it reflects.
+// lets the receiver re-emit what it reflects. Receivers near the group (closer than
+// kNearGroupSizes × its size) are shot at by the members one by one instead.
 //
 // Shooter choice, as CaLight: the patch of largest unshot power among `samples_per_surface`
 // random patches of every surface; only when that patch is below the per-patch threshold, a
@@ -90,6 +91,10 @@ struct ShootingStats {
   double seconds = 0.0;
 };
 
+// Receivers nearer than this many times the square root of a group's area are shot at by
+// the group's members one by one.
+inline constexpr float kNearGroupSizes = 2.0f;
+
 // Point-to-disk form factor k above (0 when either side faces away).
 inline float shooting_form_factor(const vec3& source, const vec3& source_normal, float source_area,
                                   const vec3& receiver, const vec3& receiver_normal) {
@@ -172,6 +177,8 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   const double stop_patch = stop_total / double(n);
   std::vector<float> factor(static_cast<size_t>(n));
   std::vector<int> members;
+  std::vector<Payload> member_power;
+  std::vector<double> member_weight;
   Progress progress(options.label, 1000, options.progress);
   int shown = 0;
   const double log_span =
@@ -225,14 +232,20 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
     vec3 normal_sum(0.0f);
     double area = 0.0;
     glm::dvec3 position(0.0);
+    member_power.clear();
+    member_weight.clear();
+    double weight_sum = 0.0;
     for (int j : members) {
       const ShootingPatch& m = patches[size_t(j)];
-      power += unshot[size_t(j)] * m.area;
+      member_power.push_back(unshot[size_t(j)] * m.area);
+      member_weight.push_back(transport.magnitude(member_power.back()));
+      weight_sum += member_weight.back();
+      power += member_power.back();
       position += glm::dvec3(m.position) * double(m.area);
       normal_sum += m.normal * m.area;
       area += m.area;
     }
-    if (!(area > 0.0)) {  // zero-area patches hold no power: drop what they claim
+    if (!(area > 0.0) || !(weight_sum > 0.0)) {  // nothing to shoot: drop what they claim
       for (int j : members) unshot[size_t(j)] = Payload{};
       remaining = sum_chunks(power_of);
       ++stats.shots;
@@ -245,16 +258,36 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
     source.members = members;
     for (int j : members) unshot[size_t(j)] = Payload{};
 
-    // Form factors with visibility (members never receive their own shot), then (if the transport
-    // asks) scaled to conserve power.
+    // Form factors with visibility (members never receive their own shot), then (if the
+    // transport asks) scaled to conserve power. Receivers closer than twice the group's size
+    // see the members one by one (the group's single interaction is meant for "widely
+    // separated" patches, S002 §3.3.4; near a corner a 3×3 group at its centre misplaces
+    // the light by up to its own size): their factor is the members' power-weighted mean.
+    const float near2 = kNearGroupSizes * kNearGroupSizes * source.area;
+    auto member_factor = [&](size_t m, const ShootingPatch& r) {
+      const ShootingPatch& p = patches[size_t(members[m])];
+      return shooting_form_factor(p.position, p.normal, p.area, r.position, r.normal);
+    };
+    auto is_near = [&](const ShootingPatch& r) {
+      const vec3 d = r.position - source.position;
+      return members.size() > 1 && glm::dot(d, d) < near2;
+    };
     parallel_for(n, [&](int64_t i0, int64_t i1) {
       for (int64_t i = i0; i < i1; ++i) {
         const ShootingPatch& r = patches[size_t(i)];
-        float k = r.surface == centre.surface &&
-                          std::find(members.begin(), members.end(), int(i)) != members.end()
-                      ? 0.0f
-                      : shooting_form_factor(source.position, source.normal, source.area,
-                                             r.position, r.normal);
+        float k = 0.0f;
+        if (r.surface == centre.surface &&
+            std::find(members.begin(), members.end(), int(i)) != members.end()) {
+          k = 0.0f;
+        } else if (is_near(r)) {
+          double sum = 0.0;
+          for (size_t m = 0; m < members.size(); ++m)
+            sum += member_weight[m] * double(member_factor(m, r));
+          k = float(sum / weight_sum);
+        } else {
+          k = shooting_form_factor(source.position, source.normal, source.area, r.position,
+                                   r.normal);
+        }
         if (k > 0.0f && !transport.visible(source, int(i))) k = 0.0f;
         factor[size_t(i)] = k;
       }
@@ -271,7 +304,16 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
       for (int64_t i = i0; i < i1; ++i) {
         const float k = factor[size_t(i)] * scale;
         if (k <= 0.0f) continue;
-        const Payload arriving = power * k;
+        const ShootingPatch& r = patches[size_t(i)];
+        Payload arriving{};
+        if (is_near(r)) {
+          for (size_t m = 0; m < members.size(); ++m) {
+            const float km = member_factor(m, r);
+            if (km > 0.0f) arriving += member_power[m] * (km * scale);
+          }
+        } else {
+          arriving = power * k;
+        }
         total[size_t(i)] += arriving;
         unshot[size_t(i)] += transport.reflect(int(i), arriving);
         if constexpr (requires { transport.received(int(i), source, arriving); })
