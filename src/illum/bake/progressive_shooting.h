@@ -88,6 +88,10 @@ struct ShootingStats {
   double initial_power = 0.0;
   double remaining_power = 0.0;  // unshot power left (Σ magnitude·area)
   bool converged = false;        // false: stopped by max_shots or the time budget
+  // The conservation scaling's reach / Σ k·A_r per shot (1 without it), its extremes and
+  // its mean weighted by the shot's power: how far the form factors' sum was from the
+  // hemisphere share that the transport measured.
+  double scale_min = 1.0, scale_max = 1.0, scale_mean = 1.0;
   double seconds = 0.0;
 };
 
@@ -178,6 +182,7 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   std::vector<float> factor(static_cast<size_t>(n));
   std::vector<int> members;
   std::vector<Payload> member_power;
+  double scale_weighted = 0.0, scale_weight = 0.0;
   std::vector<double> member_weight;
   Progress progress(options.label, 1000, options.progress);
   int shown = 0;
@@ -299,6 +304,13 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
       const double landed = sum_chunks(
           [&](int64_t i) { return double(factor[size_t(i)]) * double(patches[size_t(i)].area); });
       scale = landed > 0.0 ? float(reach / landed) : 0.0f;
+      if (landed > 0.0) {
+        stats.scale_min = std::min(stats.scale_min, double(scale));
+        stats.scale_max = std::max(stats.scale_max, double(scale));
+        const double w = transport.magnitude(power);
+        scale_weighted += w * double(scale);
+        scale_weight += w;
+      }
     }
     parallel_for(n, [&](int64_t i0, int64_t i1) {
       for (int64_t i = i0; i < i1; ++i) {
@@ -332,6 +344,7 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
     if (now > shown) progress.advance(now - shown), shown = now;
   }
   progress.finish();
+  if (scale_weight > 0.0) stats.scale_mean = scale_weighted / scale_weight;
   stats.remaining_power = remaining;
   stats.converged = stats.converged || remaining <= stop_total;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
