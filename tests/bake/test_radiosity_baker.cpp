@@ -215,6 +215,58 @@ TEST(RadiosityBaker, CornellAgreesWithThePathBakerPerTexel) {
 // Every arrival comes from one direction (a shot's centre, a point light, a sky sample), so
 // the plain layer E/π and the SH layer's z coefficient ∫L·Y₁₀ = kY1·E agree exactly:
 // plain = c₁₀/(π·kY1) per texel, up to float rounding of the sums.
+// A single plane sees nothing of itself, so its map is the direct light alone, which the
+// baker computes without noise: a point light I·cosθ/r², a spot the same inside its hard cone
+// and nothing outside, a sun E·cosθ, and a uniform sky of radiance L exactly L (each cosine
+// sample of a constant sky weighs L·π). Plain layer = E/π; float rounding only.
+TEST(RadiosityBaker, DirectLightOnAPlaneIsExact) {
+  Scene s;
+  const int mat = test::add_lambert(s, Color(0.5f));
+  test::add_instance(s, test::uv_plane(1.0f, mat));
+  Light point;
+  point.type = LightType::kPoint;
+  point.position = vec3(0.3f, 0.8f, -0.2f);
+  point.intensity = Color(2.0f, 1.0f, 0.5f);
+  Light spot;
+  spot.type = LightType::kSpot;
+  spot.position = vec3(-0.2f, 0.5f, 0.1f);
+  spot.direction = vec3(0.0f, -1.0f, 0.0f);
+  spot.cone_half_angle = radians(40.0f);
+  spot.intensity = Color(1.0f);
+  Light sun;
+  sun.type = LightType::kDirectional;
+  sun.direction = glm::normalize(vec3(0.3f, -1.0f, 0.2f));
+  sun.irradiance = Color(3.0f);
+  s.lights = {point, spot, sun};
+  Environment sky;
+  sky.constant = Color(0.25f);
+  s.environment = sky;
+  s.lights.push_back(Light{});
+  s.lights.back().type = LightType::kEnvironment;
+  const RayTracer tracer(s);
+  const atlas::TexelRaster raster = atlas::rasterize_texels(s, 16, 16);
+  const RadiosityBake b = bake::bake_radiosity(s, tracer, raster, quiet());
+  size_t in_cone = 0;
+  for (const atlas::TexelSample& t : raster.samples) {
+    const vec3 p = t.position;
+    auto from = [&](const vec3& q) {
+      const vec3 d = q - p;
+      return std::max(0.0f, glm::normalize(d).y) / glm::dot(d, d);
+    };
+    Color e = point.intensity * from(point.position) + sun.irradiance * -sun.direction.y +
+              sky.constant * kPi;
+    const vec3 to_texel = glm::normalize(p - spot.position);
+    if (glm::dot(to_texel, spot.direction) > std::cos(spot.cone_half_angle)) {
+      e += spot.intensity * from(spot.position);
+      ++in_cone;
+    }
+    for (int ch = 0; ch < 3; ++ch)
+      EXPECT_NEAR(b.layers[0].pixel(t.x, t.y)[ch], e[ch] / kPi, 1e-5 * e[ch]) << t.x << " " << t.y;
+  }
+  EXPECT_GT(in_cone, 0u);
+  EXPECT_LT(in_cone, raster.samples.size());
+}
+
 TEST(RadiosityBaker, PlainAndShLayersHoldTheSameIrradiance) {
   const Charted c(load_scene("cornell"), 24);
   RadiosityBakeOptions o = quiet(1e-2);
