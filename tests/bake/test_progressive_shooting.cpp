@@ -121,6 +121,29 @@ TEST(ProgressiveShooting, SameResultForOneTwoAndFourThreads) {
       ASSERT_EQ(std::memcmp(&results[0][i], &results[r][i], sizeof(Color)), 0) << r << " " << i;
 }
 
+// The form factor's square-root-free point-to-disk form is exact for a receiver point on
+// the axis of a disk source facing it: F = R²/(R² + r²) (a disk of radius R at distance r),
+// which the seed's point-to-point form A/(πr²) exceeds without bound as r → 0.
+TEST(ProgressiveShooting, FormFactorIsExactOnTheAxisOfADisk) {
+  const float radius = 0.1f, area = kPi * radius * radius;
+  for (const float r : {0.01f, 0.05f, 0.1f, 0.3f, 1.0f, 10.0f}) {
+    const float k =
+        shooting_form_factor(vec3(0.0f), vec3(0, 0, 1), area, vec3(0, 0, r), vec3(0, 0, -1));
+    const double exact = double(radius) * radius / (double(radius) * radius + double(r) * r);
+    EXPECT_NEAR(double(k) * area, exact, 1e-6 * exact) << "r = " << r;
+  }
+}
+
+TEST(ProgressiveShooting, CtrlCStopsTheLoop) {
+  const ShootingPatches set = cube_patches(4);
+  std::vector<Color> total(set.patches.size()), unshot(set.patches.size(), Color(1.0f));
+  ShootingOptions options;
+  options.progress = false;
+  request_interrupt();
+  EXPECT_THROW(shoot_progressively(set, total, unshot, ClosedCube{}, options), Interrupted);
+  clear_interrupt();
+}
+
 TEST(ProgressiveShooting, RefusesABadThreshold) {
   const ShootingPatches set = cube_patches(2);
   std::vector<Color> total(set.patches.size()), unshot(set.patches.size(), Color(1.0f));

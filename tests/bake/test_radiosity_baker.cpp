@@ -57,6 +57,7 @@ struct Charted {
 //             point-to-disk factor per texel is not the integral over it.
 struct TexelClass {
   bool penumbra = false, near = false;
+  bool sees_emitter = false;  // some emitter point is visible
 };
 
 std::vector<TexelClass> classify(const Scene& scene, const RayTracer& tracer,
@@ -89,8 +90,9 @@ std::vector<TexelClass> classify(const Scene& scene, const RayTracer& tracer,
       seen += tracer.occluded(Ray{o, q - o, 0.0f, 0.999f}) ? 0 : 1;
     }
     out[i].penumbra = seen > 0 && seen < facing;
+    out[i].sees_emitter = seen > 0;
     const Frame frame = Frame::from_normal(s.normal);
-    for (int k = 0; k < 64 && !out[i].near; ++k) {
+    for (int k = 0; k < 64 && !out[i].near && near_distance > 0.0f; ++k) {
       const vec2 u((float(k % 8) + 0.5f) / 8.0f, (float(k / 8) + 0.5f) / 8.0f);
       const vec3 w = glm::normalize(frame.to_world(sample_cosine_hemisphere(u)));
       if (glm::dot(w, s.geometric_normal) <= 0.0f) continue;
@@ -265,6 +267,50 @@ TEST(RadiosityBaker, DirectLightOnAPlaneIsExact) {
   }
   EXPECT_GT(in_cone, 0u);
   EXPECT_LT(in_cone, raster.samples.size());
+}
+
+// Shadows: an emitting square (facing down) above a floor, with a black square in between.
+// Floor and blocker have albedo 0, so no light bounces: floor texels that see no point of
+// the emitter (the umbra, by 16×16 points per emitter triangle, classify()) must be exactly
+// black, and the floor must have such texels and lit ones.
+TEST(RadiosityBaker, UmbraBehindABlockerIsBlack) {
+  Scene s;
+  const int black = test::add_lambert(s, Color(0.0f));
+  const int glow = test::add_lambert(s, Color(0.0f), Color(1.0f));
+  test::add_instance(s, test::uv_plane(1.0f, black));
+  test::add_instance(s, test::uv_plane(0.3f, black),
+                     glm::translate(mat4(1.0f), vec3(0.0f, 0.5f, 0.0f)));
+  test::add_instance(s, test::uv_plane(0.2f, glow),
+                     glm::translate(mat4(1.0f), vec3(0.0f, 1.0f, 0.0f)) *
+                         glm::rotate(mat4(1.0f), kPi, vec3(1.0f, 0.0f, 0.0f)));
+  // A point light and a spot under the emitter: the blocker's shadow of each covers the
+  // emitter's umbra (|x|, |z| < 0.4 on the floor), so their shadow rays are tested too.
+  Light point;
+  point.type = LightType::kPoint;
+  point.position = vec3(0.0f, 0.9f, 0.0f);
+  point.intensity = Color(1.0f);
+  Light spot = point;
+  spot.type = LightType::kSpot;
+  spot.position = vec3(0.05f, 0.9f, 0.0f);
+  spot.cone_half_angle = radians(80.0f);
+  s.lights = {point, spot};
+  const Charted c(std::move(s), 48);
+  const RadiosityBake b = bake::bake_radiosity(c.scene, *c.tracer, c.raster, quiet());
+  const std::vector<TexelClass> cls = classify(c.scene, *c.tracer, c.raster, 0.0f);
+  size_t umbra = 0, lit = 0;
+  for (size_t i = 0; i < c.raster.samples.size(); ++i) {
+    const atlas::TexelSample& t = c.raster.samples[i];
+    if (t.instance != 0 || cls[i].penumbra) continue;
+    const float v = b.layers[0].pixel(t.x, t.y)[0];
+    if (cls[i].sees_emitter) {
+      lit += v > 0.0f;
+    } else {
+      ++umbra;
+      EXPECT_EQ(v, 0.0f) << "umbra texel (" << t.x << ", " << t.y << ")";
+    }
+  }
+  EXPECT_GT(umbra, 10u);
+  EXPECT_GT(lit, 10u);
 }
 
 TEST(RadiosityBaker, PlainAndShLayersHoldTheSameIrradiance) {
