@@ -26,6 +26,8 @@ std::span<const Suite> suites() {
        &run_lightmap},
       {"lightmap-extras", "baked AO vs the ao integrator; global-line vs per-texel obscurance",
        &run_lightmap_extras},
+      {"radiosity", "radiosity light-maps: time to equal error against the path-traced baker",
+       &run_radiosity},
       {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
        &run_photon_defaults},
 #ifdef ILLUM_BENCH_HAVE_GPU

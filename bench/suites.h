@@ -36,6 +36,7 @@ int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs phot
 int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
 int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
 int run_lightmap_extras(SuiteArgs args);  // bench_lightmap_extras.cpp: AO/obscurance maps
+int run_radiosity(SuiteArgs args);  // bench_radiosity.cpp: radiosity vs path bake, equal error
 // bench_photon_defaults.cpp: the photon integrator's defaults vs the path tracer
 int run_photon_defaults(SuiteArgs args);
 #ifdef ILLUM_BENCH_HAVE_GPU

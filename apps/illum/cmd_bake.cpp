@@ -1,5 +1,6 @@
 // `illum bake SCENE -o FOLDER`: builds the scene's light-map atlas, bakes a path-traced
-// light-map in the chosen basis and writes the folder `illum frame --lightmap` and
+// (`--method path`) or radiosity (`--method radiosity`) light-map in the chosen basis and
+// writes the folder `illum frame --lightmap` and
 // `illum view --lightmap` read (format: atlas/lightmap_file.h).
 #include <chrono>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
+#include "illum/bake/radiosity_baker.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
@@ -26,6 +28,10 @@ namespace {
 struct BakeArgs {
   std::string scene;
   std::string output;
+  std::string method = "path";
+  double threshold = bake::kDefaultRadiosityThreshold;
+  double time_s = 0.0;
+  bool spp_given = false, bounces_given = false, threshold_given = false, time_given = false;
   std::string basis = "plain";
   std::string content = "all";
   int resolution = 512;
@@ -56,6 +62,17 @@ void run_bake(const BakeArgs& args) {
   extras_options.threads = args.threads;
   atlas::check_lightmap_output(args.output);  // before the long work, not after
 
+  const bool radiosity = args.method == "radiosity";
+  if (!radiosity && args.method != "path")
+    throw Error(fmt::format("--method must be path or radiosity, not '{}'", args.method));
+  // Options of the other method are refused rather than ignored.
+  if (radiosity && (args.spp_given || args.bounces_given))
+    throw Error(fmt::format("{} applies to --method path, not radiosity",
+                            args.spp_given ? "--spp" : "--bounces"));
+  if (!radiosity && (args.threshold_given || args.time_given))
+    throw Error(fmt::format("{} applies to --method radiosity, not path",
+                            args.threshold_given ? "--threshold" : "--time"));
+
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"resolution", "--resolution"},
                                {"texel_size", "--texel-size"},
@@ -63,19 +80,33 @@ void run_bake(const BakeArgs& args) {
                                {"content", "--content"},
                                {"spp", "--spp"},
                                {"max_bounces", "--bounces"},
-                               {"seed", "--seed"}});
+                               {"seed", "--seed"},
+                               {"threshold", "--threshold"}});
   j["resolution"] = args.resolution;
   j["texel_size"] = args.texel_size;
   j["basis"] = args.basis;
   j["content"] = args.content;
-  j["spp"] = args.spp;
-  j["max_bounces"] = args.max_bounces;
   j["seed"] = args.seed;
+  if (radiosity) {
+    j["threshold"] = args.threshold;
+  } else {
+    j["spp"] = args.spp;
+    j["max_bounces"] = args.max_bounces;
+  }
   const Params params(j, "--param");
   const atlas::AtlasOptions atlas_options = atlas::AtlasOptions::from_params(params);
-  bake::LightmapBakeOptions bake_options = bake::LightmapBakeOptions::from_params(params);
-  bake_options.threads = args.threads;
-  extras_options.dilate = bake_options.dilate;
+  bake::LightmapBakeOptions bake_options;
+  bake::RadiosityBakeOptions radiosity_options;
+  if (radiosity) {
+    radiosity_options = bake::RadiosityBakeOptions::from_params(params);
+    radiosity_options.threads = args.threads;
+    radiosity_options.time_budget_s = args.time_s;
+    extras_options.dilate = radiosity_options.dilate;
+  } else {
+    bake_options = bake::LightmapBakeOptions::from_params(params);
+    bake_options.threads = args.threads;
+    extras_options.dilate = bake_options.dilate;
+  }
   params.check_all_used();
 
   ThreadLimit limit(args.threads);
@@ -96,7 +127,19 @@ void run_bake(const BakeArgs& args) {
   const double raster_s = seconds_since(t0);
 
   log::release();  // the input is checked: the load's warnings may show now
-  bake::LightmapBake baked = bake::bake_lightmap(scene, tracer, raster, bake_options);
+  bake::LightmapBake baked;
+  bake::RadiosityBake radiosity_baked;
+  if (radiosity) {
+    radiosity_baked = bake::bake_radiosity(scene, tracer, raster, radiosity_options);
+    baked.basis = radiosity_baked.basis;
+    baked.content = radiosity_baked.content;
+    baked.layers = std::move(radiosity_baked.layers);
+    baked.seconds = radiosity_baked.seconds;
+    baked.rays = radiosity_baked.rays;
+    baked.texels = radiosity_baked.texels;
+  } else {
+    baked = bake::bake_lightmap(scene, tracer, raster, bake_options);
+  }
 
   bake::LightmapExtras extras;
   if (extras_options.any()) {
@@ -126,19 +169,34 @@ void run_bake(const BakeArgs& args) {
   set.scene_hash = geometry_hash_hex(scene);  // with the atlas applied, as the readers check it
   const double occupancy =
       double(raster.covered()) / (double(set.atlas.width) * double(set.atlas.height));
-  set.bake = {{"spp", bake_options.spp},
-              {"max_bounces", bake_options.max_bounces},
-              {"seed", bake_options.seed},
-              {"dilate", bake_options.dilate},
-              {"denoise", baked.denoised},
-              {"denoise_strength", bake_options.denoise_strength},
-              {"texels", baked.texels},
-              {"occupancy", occupancy},
-              {"rays", baked.rays},
-              {"atlas_seconds", atlas_s},
-              {"raster_seconds", raster_s},
-              {"bake_seconds", baked.seconds},
-              {"denoise_seconds", baked.denoise_seconds}};
+  if (radiosity)
+    set.bake = {{"method", "radiosity"},
+                {"threshold", radiosity_options.threshold},
+                {"group_size", radiosity_options.group_size},
+                {"samples_per_surface", radiosity_options.samples_per_surface},
+                {"sky_rays", radiosity_options.sky_rays},
+                {"reach_rays", radiosity_options.reach_rays},
+                {"seed", radiosity_options.seed},
+                {"dilate", radiosity_options.dilate},
+                {"shots", radiosity_baked.shots},
+                {"initial_power", radiosity_baked.initial_power},
+                {"remaining_power", radiosity_baked.remaining_power},
+                {"converged", radiosity_baked.converged}};
+  else
+    set.bake = {{"method", "path"},
+                {"spp", bake_options.spp},
+                {"max_bounces", bake_options.max_bounces},
+                {"seed", bake_options.seed},
+                {"dilate", bake_options.dilate},
+                {"denoise", baked.denoised},
+                {"denoise_strength", bake_options.denoise_strength}};
+  set.bake.update(nlohmann::json{{"texels", baked.texels},
+                                 {"occupancy", occupancy},
+                                 {"rays", baked.rays},
+                                 {"atlas_seconds", atlas_s},
+                                 {"raster_seconds", raster_s},
+                                 {"bake_seconds", baked.seconds},
+                                 {"denoise_seconds", baked.denoise_seconds}});
   if (extras_options.any()) {
     set.bake["extras_seconds"] = extras.seconds;
     set.bake["extras_rays"] = extras.rays;
@@ -147,13 +205,21 @@ void run_bake(const BakeArgs& args) {
 
   const std::string denoised =
       baked.denoised ? fmt::format(", denoised in {:.2f}s", baked.denoise_seconds) : "";
+  const std::string method =
+      radiosity ? fmt::format("radiosity {} shots, {:.2g} of the power left unshot{}",
+                              radiosity_baked.shots,
+                              radiosity_baked.initial_power > 0
+                                  ? radiosity_baked.remaining_power / radiosity_baked.initial_power
+                                  : 0.0,
+                              radiosity_baked.converged ? "" : " (stopped by --time)")
+                : fmt::format("{} spp", bake_options.spp);
   std::fprintf(stderr,
                "illum: bake %s, %s/%s: atlas %dx%d, %d charts, texel %.4g m, %zu texels "
-               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %d spp %.2fs (%.2f Mrays/s)%s "
+               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %s %.2fs (%.2f Mrays/s)%s "
                "-> %s\n",
                scene.name.c_str(), set.basis.c_str(), set.content.c_str(), set.atlas.width,
                set.atlas.height, set.atlas.chart_count, double(set.atlas.texel_size),
-               raster.covered(), 100.0 * occupancy, atlas_s, raster_s, bake_options.spp,
+               raster.covered(), 100.0 * occupancy, atlas_s, raster_s, method.c_str(),
                baked.seconds, baked.seconds > 0 ? double(baked.rays) / baked.seconds * 1e-6 : 0.0,
                denoised.c_str(), args.output.c_str());
 }
@@ -163,13 +229,28 @@ void run_bake(const BakeArgs& args) {
 void add_bake_command(CLI::App& app) {
   auto args = std::make_shared<BakeArgs>();
   auto* cmd = app.add_subcommand(
-      "bake", "Bake a path-traced light-map (atlas, plain/RNM/SH-L1 layers) into a folder");
+      "bake",
+      "Bake a path-traced or radiosity light-map (atlas, plain/RNM/SH-L1 layers) into a folder");
   cmd->add_option("scene", args->scene,
                   "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
       ->required();
   cmd->add_option("-o,--output", args->output,
                   "output folder (created; an earlier light-map folder is replaced)")
       ->required();
+  cmd->add_option("--method", args->method,
+                  "path (path-traced, denoised) or radiosity (progressive-refinement shooting, "
+                  "one patch per texel)")
+      ->capture_default_str();
+  cmd->add_option("--threshold", args->threshold,
+                  "radiosity: stop when the unshot power is at most this share of the initial "
+                  "(direct light and emission)")
+      ->transform(number(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--time", args->time_s,
+                  "radiosity: stop shooting after this many seconds (0: no limit); the map "
+                  "then holds what was shot")
+      ->transform(number(0.0, 1e9))
+      ->capture_default_str();
   cmd->add_option("--basis", args->basis, "plain, rnm (3 Source basis maps) or sh (SH-L1)")
       ->capture_default_str();
   cmd->add_option("--content", args->content,
@@ -215,7 +296,13 @@ void add_bake_command(CLI::App& app) {
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
                   "denoise=true|false, denoise_strength)");
   add_load_options(cmd, &args->load);
-  cmd->callback([args] { run_bake(*args); });
+  cmd->callback([args, cmd] {
+    args->spp_given = cmd->count("--spp") > 0;
+    args->bounces_given = cmd->count("--bounces") > 0;
+    args->threshold_given = cmd->count("--threshold") > 0;
+    args->time_given = cmd->count("--time") > 0;
+    run_bake(*args);
+  });
 }
 
 }  // namespace illum::cli

@@ -153,7 +153,8 @@ class DocsClaims : public CliTest {
       const bool sized = args[0] == "render" || args[0] == "frame" || args[0] == "view";
       if (sized && !given.count("--width")) args.insert(args.end(), {"--width", "16"});
       if (sized && !given.count("--height")) args.insert(args.end(), {"--height", "16"});
-      if ((args[0] == "render" || args[0] == "bake") && !given.count("--spp"))
+      const bool radiosity = std::find(args.begin(), args.end(), "radiosity") != args.end();
+      if ((args[0] == "render" || (args[0] == "bake" && !radiosity)) && !given.count("--spp"))
         args.insert(args.end(), {"--spp", "2"});
       if (args[0] == "bake" && !given.count("--resolution"))
         args.insert(args.end(), {"--resolution", "32"});

@@ -32,11 +32,6 @@ constexpr float kMaxDenoiseStrength = 100.0f;
 // the texel as the path's first vertex.
 constexpr int kRrDepth = 3;
 
-// Source engine's radiosity normal mapping basis in tangent space (S003 ch. 7).
-constexpr float kRnmBasis[3][3] = {{0.816496581f, 0.0f, 0.577350269f},
-                                   {-0.408248290f, 0.707106781f, 0.577350269f},
-                                   {-0.408248290f, -0.707106781f, 0.577350269f}};
-
 // The texel's surface point as the first vertex of the paths: a Lambertian vertex whose
 // "BSDF × cosine" is the basis function of each layer. Directions are sampled by cosine
 // for the plain basis (its basis function is cos/π itself: every sample then weighs 1),
@@ -74,27 +69,7 @@ struct TexelVertex {
     return glm::normalize(sampling.to_world(local));
   }
   // Basis function of each layer for a valid direction w.
-  void weights(const vec3& w, float* out) const {
-    switch (basis) {
-      case LightmapBasis::kPlain:
-        out[0] = glm::dot(w, n) * kInvPi;
-        return;
-      case LightmapBasis::kRnm: {
-        const vec3 l(glm::dot(w, t), glm::dot(w, b), glm::dot(w, n));
-        for (int i = 0; i < 3; ++i)
-          out[i] = std::max(0.0f,
-                            kRnmBasis[i][0] * l.x + kRnmBasis[i][1] * l.y + kRnmBasis[i][2] * l.z) *
-                   kInvPi;
-        return;
-      }
-      case LightmapBasis::kShL1: {
-        // Tangent space: x = t, y = b, z = n (the SH pole is the normal, core/sh.h).
-        const vec4 y = sh::evaluate_l1(vec3(glm::dot(w, t), glm::dot(w, b), glm::dot(w, n)));
-        for (int i = 0; i < 4; ++i) out[i] = y[i];
-        return;
-      }
-    }
-  }
+  void weights(const vec3& w, float* out) const { basis_weights(basis, w, n, t, b, out); }
 };
 
 // Weights of each layer's luminance in the denoiser's guide: a quantity that every layer's
@@ -191,52 +166,6 @@ void validate(const Scene& scene, const RayTracer& tracer, const atlas::TexelRas
 }
 
 }  // namespace
-
-const char* to_string(LightmapBasis basis) {
-  switch (basis) {
-    case LightmapBasis::kPlain:
-      return "plain";
-    case LightmapBasis::kRnm:
-      return "rnm";
-    case LightmapBasis::kShL1:
-      return "sh";
-  }
-  return "unknown";
-}
-
-const char* to_string(LightmapContent content) {
-  switch (content) {
-    case LightmapContent::kAll:
-      return "all";
-    case LightmapContent::kIndirect:
-      return "indirect";
-  }
-  return "unknown";
-}
-
-LightmapBasis lightmap_basis_from_string(const std::string& name) {
-  for (const LightmapBasis b : {LightmapBasis::kPlain, LightmapBasis::kRnm, LightmapBasis::kShL1})
-    if (name == to_string(b)) return b;
-  throw Error(fmt::format("light-map basis must be plain, rnm or sh, not '{}'", name));
-}
-
-LightmapContent lightmap_content_from_string(const std::string& name) {
-  for (const LightmapContent c : {LightmapContent::kAll, LightmapContent::kIndirect})
-    if (name == to_string(c)) return c;
-  throw Error(fmt::format("light-map content must be all or indirect, not '{}'", name));
-}
-
-int layer_count(LightmapBasis basis) {
-  switch (basis) {
-    case LightmapBasis::kPlain:
-      return 1;
-    case LightmapBasis::kRnm:
-      return 3;
-    case LightmapBasis::kShL1:
-      return 4;
-  }
-  throw Error(fmt::format("light-map bake: unknown basis {}", static_cast<int>(basis)));
-}
 
 LightmapBakeOptions LightmapBakeOptions::from_params(const Params& params) {
   LightmapBakeOptions o;

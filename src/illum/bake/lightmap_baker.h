@@ -16,26 +16,13 @@
 #include <vector>
 
 #include "illum/atlas/texel_raster.h"
+#include "illum/bake/lightmap_basis.h"
 #include "illum/core/image.h"
 #include "illum/core/params.h"
 #include "illum/scene/scene.h"
 #include "illum/trace/ray_tracer.h"
 
 namespace illum::bake {
-
-enum class LightmapBasis { kPlain, kRnm, kShL1 };
-// Which light the map holds. kAll: everything (the real-time renderer then adds no
-// per-light shading). kIndirect: everything except the direct light of point, spot and
-// directional lights at the texel, which the real-time renderer adds per pixel with its
-// shadows ("mixed" lighting); area and environment light stay in the map, direct and
-// indirect.
-enum class LightmapContent { kAll, kIndirect };
-
-const char* to_string(LightmapBasis basis);
-const char* to_string(LightmapContent content);
-LightmapBasis lightmap_basis_from_string(const std::string& name);      // plain|rnm|sh
-LightmapContent lightmap_content_from_string(const std::string& name);  // all|indirect
-int layer_count(LightmapBasis basis);
 
 struct LightmapBakeOptions {
   LightmapBasis basis = LightmapBasis::kPlain;
