@@ -54,6 +54,31 @@ vec2 interpolate_uv0(const Mesh& mesh, size_t tri, const vec2& b) {
   return (1.0f - b.x - b.y) * mesh.uv0[idx[0]] + b.x * mesh.uv0[idx[1]] + b.y * mesh.uv0[idx[2]];
 }
 
+// Where a vertex's rays start: 1e-3 of the way from the vertex to the mean centroid of its
+// triangles. A vertex on a corner or an edge of a closed room lies on the planes of the
+// adjacent walls, and rays from there slip out through the crack between them (light
+// leaking in, energy leaking out); a point just inside its own triangles does not.
+std::vector<vec3> vertex_ray_origins(const Instance& inst, const Mesh& mesh) {
+  std::vector<vec3> centroid(mesh.vertex_count(), vec3(0.0f));
+  std::vector<int> triangles(mesh.vertex_count(), 0);
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t* idx = &mesh.indices[t * 3];
+    const vec3 c =
+        (mesh.positions[idx[0]] + mesh.positions[idx[1]] + mesh.positions[idx[2]]) / 3.0f;
+    for (int k = 0; k < 3; ++k) {
+      centroid[idx[k]] += c;
+      ++triangles[idx[k]];
+    }
+  }
+  std::vector<vec3> origin(mesh.vertex_count());
+  for (size_t v = 0; v < origin.size(); ++v) {
+    const vec3 p = mesh.positions[v];
+    const vec3 inside = triangles[v] ? p + 1e-3f * (centroid[v] / float(triangles[v]) - p) : p;
+    origin[v] = world_point(inst, inside);
+  }
+  return origin;
+}
+
 // Area of the part of triangle q (texel units) inside the unit square at (x, y):
 // Sutherland–Hodgman clipping against the square's four sides.
 double clipped_area(const glm::dvec2 q[3], double x, double y) {
@@ -238,11 +263,99 @@ PrtBakeOptions PrtBakeOptions::from_params(const Params& params) {
   return o;
 }
 
+PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster) {
+  PrtPatches out;
+  const std::vector<float> area = texel_areas(scene, raster);
+  out.patches.resize(raster.samples.size());
+  for (size_t k = 0; k < raster.samples.size(); ++k) {
+    const atlas::TexelSample& s = raster.samples[k];
+    const Mesh& mesh = scene.meshes[size_t(scene.instances[size_t(s.instance)].mesh)];
+    out.patches[k] = {s.position, s.normal, s.geometric_normal,
+                      area[size_t(s.y) * size_t(raster.width) + size_t(s.x)],
+                      material_albedo(scene, mesh_material(scene, mesh),
+                                      interpolate_uv0(mesh, size_t(s.triangle), s.barycentric))};
+  }
+  out.receiver = [&scene, &raster](const Ray& ray, const Hit& hit) {
+    Receipt r;
+    const Instance& inst = scene.instances[hit.instance];
+    const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+    if (mesh.uv1.size() != mesh.positions.size()) return r;
+    const uint32_t* idx = &mesh.indices[size_t(hit.primitive) * 3];
+    const vec3 p0 = world_point(inst, mesh.positions[idx[0]]);
+    const vec3 ng = glm::cross(world_point(inst, mesh.positions[idx[1]]) - p0,
+                               world_point(inst, mesh.positions[idx[2]]) - p0);
+    if (glm::dot(ng, ray.direction) >= 0.0f) return r;  // the back of a surface
+    const vec2 b = hit.barycentric;
+    const vec2 uv =
+        (1.0f - b.x - b.y) * mesh.uv1[idx[0]] + b.x * mesh.uv1[idx[1]] + b.y * mesh.uv1[idx[2]];
+    const int x = std::clamp(int(uv.x * float(raster.width)), 0, raster.width - 1);
+    const int y = std::clamp(int(uv.y * float(raster.height)), 0, raster.height - 1);
+    const int32_t k = raster.at(x, y);
+    if (k < 0) return r;
+    r.count = 1;
+    r.patch[0] = k;
+    r.weight[0] = 1.0f;
+    return r;
+  };
+  return out;
+}
+
+PrtPatches vertex_patches(const Scene& scene) {
+  PrtPatches out;
+  std::vector<size_t> base(scene.instances.size() + 1, 0);
+  for (size_t i = 0; i < scene.instances.size(); ++i)
+    base[i + 1] = base[i] + scene.meshes[size_t(scene.instances[i].mesh)].vertex_count();
+  out.patches.resize(base.back());
+  // A vertex stands for its hat function: a third of each adjacent triangle's area.
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+    const Material& material = mesh_material(scene, mesh);
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(inst.transform)));
+    const std::vector<vec3> origin = vertex_ray_origins(inst, mesh);
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const vec3 n = glm::normalize(normal_matrix * mesh.normals[v]);
+      const vec2 uv0 = mesh.uv0.size() == mesh.positions.size() ? mesh.uv0[v] : vec2(0.0f);
+      out.patches[base[i] + v] = {origin[v], n, n, 0.0f, material_albedo(scene, material, uv0)};
+    }
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      const uint32_t* idx = &mesh.indices[t * 3];
+      const vec3 p0 = world_point(inst, mesh.positions[idx[0]]);
+      const float third = glm::length(glm::cross(world_point(inst, mesh.positions[idx[1]]) - p0,
+                                                 world_point(inst, mesh.positions[idx[2]]) - p0)) /
+                          6.0f;
+      for (int c = 0; c < 3; ++c) out.patches[base[i] + idx[c]].area += third;
+    }
+  }
+  out.receiver = [&scene, base](const Ray& ray, const Hit& hit) {
+    Receipt r;
+    const Instance& inst = scene.instances[hit.instance];
+    const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+    const uint32_t* idx = &mesh.indices[size_t(hit.primitive) * 3];
+    const vec3 p0 = world_point(inst, mesh.positions[idx[0]]);
+    const vec3 ng = glm::cross(world_point(inst, mesh.positions[idx[1]]) - p0,
+                               world_point(inst, mesh.positions[idx[2]]) - p0);
+    if (glm::dot(ng, ray.direction) >= 0.0f) return r;  // the back of a surface
+    const vec2 b = hit.barycentric;
+    r.count = 3;
+    for (int c = 0; c < 3; ++c) r.patch[c] = int32_t(base[hit.instance] + idx[c]);
+    r.weight[0] = 1.0f - b.x - b.y;
+    r.weight[1] = b.x;
+    r.weight[2] = b.y;
+    return r;
+  };
+  return out;
+}
+
 PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::TexelRaster& raster,
                  const PrtBakeOptions& options) {
   options.validate();
   if (&tracer.scene() != &scene)
     throw Error("PRT bake: the ray tracer was built from another scene");
+  for (const Mesh& mesh : scene.meshes)
+    if (mesh.normals.size() != mesh.positions.size())
+      throw Error(fmt::format("PRT bake: mesh '{}' has {} normals for {} vertices", mesh.name,
+                              mesh.normals.size(), mesh.positions.size()));
   ThreadLimit thread_limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const int count = sh::coefficient_count(options.bands);
@@ -270,40 +383,9 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
     bake_direct(tracer, points, options, "prt texels", transfer, rays);
     if (bounce) {
       const auto t0 = std::chrono::steady_clock::now();
-      const std::vector<float> area = texel_areas(scene, raster);
-      std::vector<ShootingPatch> patches(points.size());
-      for (size_t k = 0; k < points.size(); ++k) {
-        const atlas::TexelSample& s = raster.samples[k];
-        const Mesh& mesh = scene.meshes[size_t(scene.instances[size_t(s.instance)].mesh)];
-        patches[k] = {s.position, s.normal, s.geometric_normal,
-                      area[size_t(s.y) * size_t(raster.width) + size_t(s.x)],
-                      material_albedo(scene, mesh_material(scene, mesh),
-                                      interpolate_uv0(mesh, size_t(s.triangle), s.barycentric))};
-      }
-      const Receiver receiver = [&](const Ray& ray, const Hit& hit) {
-        Receipt r;
-        const Instance& inst = scene.instances[hit.instance];
-        const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
-        if (mesh.uv1.size() != mesh.positions.size()) return r;
-        const uint32_t* idx = &mesh.indices[size_t(hit.primitive) * 3];
-        const vec3 p0 = world_point(inst, mesh.positions[idx[0]]);
-        const vec3 ng = glm::cross(world_point(inst, mesh.positions[idx[1]]) - p0,
-                                   world_point(inst, mesh.positions[idx[2]]) - p0);
-        if (glm::dot(ng, ray.direction) >= 0.0f) return r;  // the back of a surface
-        const vec2 b = hit.barycentric;
-        const vec2 uv =
-            (1.0f - b.x - b.y) * mesh.uv1[idx[0]] + b.x * mesh.uv1[idx[1]] + b.y * mesh.uv1[idx[2]];
-        const int x = std::clamp(int(uv.x * float(raster.width)), 0, raster.width - 1);
-        const int y = std::clamp(int(uv.y * float(raster.height)), 0, raster.height - 1);
-        const int32_t k = raster.at(x, y);
-        if (k < 0) return r;
-        r.count = 1;
-        r.patch[0] = k;
-        r.weight[0] = 1.0f;
-        return r;
-      };
+      const PrtPatches set = texel_patches(scene, raster);
       const ShootingResult shot =
-          shoot_transfer(tracer, patches, receiver, payload, transfer, shooting);
+          shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
       bake.shoot_rounds += shot.rounds;
       bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
       rays += shot.rays;
@@ -334,55 +416,19 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
       const Instance& inst = scene.instances[i];
       const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
       const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(inst.transform)));
+      const std::vector<vec3> origin = vertex_ray_origins(inst, mesh);
       for (size_t v = 0; v < mesh.vertex_count(); ++v) {
         const vec3 n = glm::normalize(normal_matrix * mesh.normals[v]);
-        points[base[i] + v] = {world_point(inst, mesh.positions[v]), n, n, kVertexStream ^ i, v};
+        points[base[i] + v] = {origin[v], n, n, kVertexStream ^ i, v};
       }
     }
     std::vector<float> transfer;
     bake_direct(tracer, points, options, "prt vertices", transfer, rays);
     if (bounce) {
       const auto t0 = std::chrono::steady_clock::now();
-      // A vertex stands for its hat function: a third of each adjacent triangle's area.
-      std::vector<ShootingPatch> patches(points.size());
-      for (size_t i = 0; i < scene.instances.size(); ++i) {
-        const Instance& inst = scene.instances[i];
-        const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
-        const Material& material = mesh_material(scene, mesh);
-        for (size_t v = 0; v < mesh.vertex_count(); ++v) {
-          const BakePoint& pt = points[base[i] + v];
-          const vec2 uv0 = mesh.uv0.size() == mesh.positions.size() ? mesh.uv0[v] : vec2(0.0f);
-          patches[base[i] + v] = {pt.position, pt.normal, pt.geometric_normal, 0.0f,
-                                  material_albedo(scene, material, uv0)};
-        }
-        for (size_t t = 0; t < mesh.triangle_count(); ++t) {
-          const uint32_t* idx = &mesh.indices[t * 3];
-          const vec3 p0 = points[base[i] + idx[0]].position;
-          const float third = glm::length(glm::cross(points[base[i] + idx[1]].position - p0,
-                                                     points[base[i] + idx[2]].position - p0)) /
-                              6.0f;
-          for (int c = 0; c < 3; ++c) patches[base[i] + idx[c]].area += third;
-        }
-      }
-      const Receiver receiver = [&](const Ray& ray, const Hit& hit) {
-        Receipt r;
-        const Mesh& mesh = scene.meshes[size_t(scene.instances[hit.instance].mesh)];
-        const uint32_t* idx = &mesh.indices[size_t(hit.primitive) * 3];
-        const size_t b0 = base[hit.instance];
-        const vec3 p0 = points[b0 + idx[0]].position;
-        const vec3 ng =
-            glm::cross(points[b0 + idx[1]].position - p0, points[b0 + idx[2]].position - p0);
-        if (glm::dot(ng, ray.direction) >= 0.0f) return r;
-        const vec2 b = hit.barycentric;
-        r.count = 3;
-        for (int c = 0; c < 3; ++c) r.patch[c] = int32_t(b0 + idx[c]);
-        r.weight[0] = 1.0f - b.x - b.y;
-        r.weight[1] = b.x;
-        r.weight[2] = b.y;
-        return r;
-      };
+      const PrtPatches set = vertex_patches(scene);
       const ShootingResult shot =
-          shoot_transfer(tracer, patches, receiver, payload, transfer, shooting);
+          shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
       bake.shoot_rounds += shot.rounds;
       bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
       rays += shot.rays;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "illum/atlas/texel_raster.h"
+#include "illum/bake/prt_shooting.h"
 #include "illum/core/image.h"
 #include "illum/core/params.h"
 #include "illum/scene/scene.h"
@@ -91,6 +92,18 @@ struct PrtBake {
   size_t texels = 0;  // covered texels baked
   size_t vertices = 0;
 };
+
+// The patches the interreflected mode shoots between, and where a hit lands: one per covered
+// texel of `raster` (area: the world area of the texel's part of the charts, by clipping
+// each triangle's uv1 to the texel) or one per vertex of every instance (area: a third of
+// the adjacent triangles'; a hit is received by its triangle's corners by barycentric
+// weight). The receiver refers to `scene` and `raster`, which must outlive it.
+struct PrtPatches {
+  std::vector<ShootingPatch> patches;
+  Receiver receiver;
+};
+PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster);
+PrtPatches vertex_patches(const Scene& scene);
 
 // Bakes every covered texel of `raster` (may be empty when options.texels is false) and
 // every vertex. `tracer` must be built from `scene`. Polls interrupt_requested() and throws
