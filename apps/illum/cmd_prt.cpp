@@ -71,11 +71,7 @@ void run_relight(const RelightArgs& args) {
                        ? bake::PrtLookup::kVertices
                        : throw Error(fmt::format("--lookup '{}': texels or vertices", args.lookup));
   std::optional<vec3> sun;
-  if (!args.sun.empty()) {
-    sun = parse_vector(args.sun, "--sun");
-    if (!(glm::length(*sun) > 0.0f))
-      throw Error(fmt::format("--sun '{}': the direction is zero", args.sun));
-  }
+  if (!args.sun.empty()) sun = parse_vector(args.sun, "--sun");  // zero: sun_light refuses it
   std::optional<Environment> env;
   if (!args.env.empty()) {
     env.emplace();
