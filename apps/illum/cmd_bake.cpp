@@ -14,6 +14,7 @@
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
 #include "illum/bake/prt_baker.h"
+#include "illum/bake/prt_vq.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
@@ -43,6 +44,7 @@ struct BakeArgs {
   LoadOptions load;
   std::string kind = "lightmap";  // lightmap | prt (cmd_prt.cpp)
   int bands = 4;                  // prt only
+  int vq = 0;                     // prt only
   std::string mode = "shadowed";  // prt only
 };
 
@@ -53,15 +55,17 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   if (args.kind != "lightmap" && args.kind != "prt")
     throw Error(fmt::format("--kind '{}': lightmap or prt", args.kind));
-  for (const char* option : {"--bands", "--mode"})
+  for (const char* option : {"--bands", "--mode", "--vq"})
     if (args.kind != "prt" && cmd.count(option))
       throw Error(fmt::format("{} applies to --kind prt only", option));
   if (args.kind == "prt") {
     for (const char* option : {"--basis", "--content", "--bounces", "--extras", "--ao-distance",
                                "--obscurance-dmax", "--extras-rays"})
       if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
-    run_prt_bake({args.scene, args.output, args.mode, args.resolution, args.spp, args.bands,
-                  args.threads, args.texel_size, args.seed, args.params, args.load});
+    PrtBakeRequest request{args.scene,      args.output, args.mode,    args.resolution,
+                           args.spp,        args.bands,  args.threads, args.vq,
+                           args.texel_size, args.seed,   args.params,  args.load};
+    run_prt_bake(request);
     return;
   }
   bake::LightmapExtrasOptions extras_options;
@@ -236,6 +240,11 @@ void add_bake_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--bands", args->bands, "prt: SH bands (bands² coefficients)")
       ->transform(number(bake::kMinPrtBands, bake::kMaxPrtBands))
+      ->capture_default_str();
+  cmd->add_option("--vq", args->vq,
+                  "prt: also store the SHL-map VQ-compressed into this many representatives "
+                  "(16-bit indices; 0: not compressed)")
+      ->transform(number(0, bake::kMaxVqRepresentatives))
       ->capture_default_str();
   cmd->add_option("--mode", args->mode, "prt: unshadowed, shadowed or interreflected")
       ->capture_default_str();

@@ -14,6 +14,7 @@
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
+#include "illum/bake/prt_vq.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/core/tonemap.h"
@@ -66,10 +67,14 @@ void run_relight(const RelightArgs& args) {
     throw Error("relight: give exactly one light, --sun X,Y,Z or --env FILE");
   const ToneMapper mapper = tone_mapper_from_string(args.tonemap);
   bake::RelightOptions options;
-  options.lookup = args.lookup == "texels" ? bake::PrtLookup::kTexels
-                   : args.lookup == "vertices"
-                       ? bake::PrtLookup::kVertices
-                       : throw Error(fmt::format("--lookup '{}': texels or vertices", args.lookup));
+  if (args.lookup == "texels")
+    options.lookup = bake::PrtLookup::kTexels;
+  else if (args.lookup == "vertices")
+    options.lookup = bake::PrtLookup::kVertices;
+  else if (args.lookup == "vq")
+    options.lookup = bake::PrtLookup::kVq;
+  else
+    throw Error(fmt::format("--lookup '{}': texels, vertices or vq", args.lookup));
   std::optional<vec3> sun;
   if (!args.sun.empty()) sun = parse_vector(args.sun, "--sun");  // zero: sun_light refuses it
   std::optional<Environment> env;
@@ -148,6 +153,15 @@ void run_prt_bake(const PrtBakeRequest& args) {
   set.mode = baked.mode;
   set.texel_transfer = std::move(baked.texel_transfer);
   set.vertex_transfer = std::move(baked.vertex_transfer);
+  double vq_seconds = 0.0;
+  if (args.vq > 0) {
+    const auto tv = std::chrono::steady_clock::now();
+    bake::VqOptions vq;
+    vq.representatives = args.vq;
+    vq.seed = args.seed;
+    set.vq = bake::vq_compress(set.texel_transfer.data, set.texel_transfer.channels, vq);
+    vq_seconds = seconds_since(tv);
+  }
   set.scene = scene.name;
   set.scene_hash = geometry_hash_hex(scene);  // with the atlas applied, as apply_prt_set checks
   set.bake = {{"spp", options.spp},
@@ -163,6 +177,18 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"atlas_seconds", atlas_s},
               {"bake_seconds", baked.seconds},
               {"shoot_seconds", baked.shoot_seconds}};
+  if (set.vq.count() > 0) {
+    const double full = double(set.texel_transfer.data.size()) * 4.0;
+    const double packed =
+        double(set.vq.representatives.size()) * 4.0 + double(set.vq.indices.size()) * 2.0;
+    set.bake["vq_seconds"] = vq_seconds;
+    set.bake["vq_compression"] = full / packed;
+    std::fprintf(stderr,
+                 "illum: VQ %d representatives, %d iterations, max distance %.4g, rms %.4g, "
+                 "%.1f:1 against the f32 map, %.2fs\n",
+                 set.vq.count(), set.vq.iterations, set.vq.max_distance, set.vq.rms_distance,
+                 full / packed, vq_seconds);
+  }
   bake::save_prt_set(args.output, set);
   std::fprintf(stderr,
                "illum: bake %s, prt %d bands %s: atlas %dx%d, %zu texels, %zu vertices, %d spp "
@@ -187,7 +213,9 @@ void add_relight_command(CLI::App& app) {
   cmd->add_option("--env", args->env, "environment: equirectangular HDR image");
   cmd->add_option("--rotate", args->rotate, "turn the environment about +y by DEG degrees")
       ->transform(number(-36000.0f, 36000.0f));
-  cmd->add_option("--lookup", args->lookup, "texels (SHL-map, bilinear) or vertices")
+  cmd->add_option(
+         "--lookup", args->lookup,
+         "texels (SHL-map, bilinear), vertices, or vq (the compressed map, 4 taps at ±¼ texel)")
       ->capture_default_str();
   cmd->add_option("--width", args->width, "image width (default: the scene's)")
       ->transform(number(1, 16384));

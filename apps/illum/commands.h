@@ -22,6 +22,7 @@ void add_relight_command(CLI::App& app);
 struct PrtBakeRequest {
   std::string scene, output, mode;
   int resolution = 512, spp = 256, bands = 4, threads = 0;
+  int vq = 0;  // representatives of the VQ-compressed SHL-map, 0: none
   float texel_size = 0.0f;
   uint64_t seed = 0;
   std::vector<std::string> params;

@@ -213,7 +213,7 @@ TEST(PrtShooting, ClosedFurnaceBoxConvergesToAlbedoOverOneMinusAlbedo) {
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
   const double expected = a / (1.0 - a);
 
-  bake::ShootingOptions options;
+  bake::TransferShootingOptions options;
   options.rays = 16;
   options.tolerance = 1e-3;
   options.max_rounds = 1000;
@@ -225,7 +225,7 @@ TEST(PrtShooting, ClosedFurnaceBoxConvergesToAlbedoOverOneMinusAlbedo) {
     for (const auto& patch : set.patches) total_area += patch.area;
     EXPECT_NEAR(total_area, 24.0, 24.0 * 1e-5);  // the clipped texel areas sum to the box's
     std::vector<float> transfer(set.patches.size() * 3, 1.0f);
-    const bake::ShootingResult result =
+    const bake::TransferShootingResult result =
         bake::shoot_transfer(tracer, set.patches, set.receiver, 3, transfer, options);
     EXPECT_LE(result.unshot_fraction, options.tolerance);
     double weighted = 0.0;

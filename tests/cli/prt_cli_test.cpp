@@ -128,4 +128,26 @@ TEST_F(PrtCli, RefusesBadLights) {
   EXPECT_FALSE(fs::exists(out()));
 }
 
+TEST_F(PrtCli, VqBakeRelightsAndRefusesBadIndices) {
+  const fs::path prt = dir_ / "prt";
+  const Result b = bake("cornell", prt, "--vq 16");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_NE(b.err.find("VQ 16 representatives"), std::string::npos) << b.err;
+  const Result r = relight("cornell", prt, "--sun 0,-1,0 --lookup vq");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  fs::remove(out());
+  // An index past the representatives.
+  std::string indices = slurp(prt / "vq_indices.bin");
+  indices[20] = char(0xff);
+  indices[21] = char(0xff);
+  std::ofstream(prt / "vq_indices.bin", std::ios::binary) << indices;
+  expect_bad_input(relight("cornell", prt, "--sun 0,-1,0 --lookup vq"), "vq_indices.bin");
+  EXPECT_FALSE(fs::exists(out()));
+  // A folder baked without --vq has nothing for --lookup vq.
+  const fs::path plain = dir_ / "plain";
+  ASSERT_EQ(bake("cornell", plain).exit_code, 0);
+  expect_bad_input(relight("cornell", plain, "--sun 0,-1,0 --lookup vq"), "--vq");
+  expect_bad_input(run("bake cornell --vq 16 -o " + (dir_ / "lm").string()), "--vq");
+}
+
 }  // namespace

@@ -276,7 +276,7 @@ PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster) {
                                       interpolate_uv0(mesh, size_t(s.triangle), s.barycentric))};
   }
   out.receiver = [&scene, &raster](const Ray& ray, const Hit& hit) {
-    Receipt r;
+    TransferReceipt r;
     const Instance& inst = scene.instances[hit.instance];
     const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
     if (mesh.uv1.size() != mesh.positions.size()) return r;
@@ -328,7 +328,7 @@ PrtPatches vertex_patches(const Scene& scene) {
     }
   }
   out.receiver = [&scene, base](const Ray& ray, const Hit& hit) {
-    Receipt r;
+    TransferReceipt r;
     const Instance& inst = scene.instances[hit.instance];
     const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
     const uint32_t* idx = &mesh.indices[size_t(hit.primitive) * 3];
@@ -366,7 +366,7 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
   bake.bands = options.bands;
   bake.mode = options.mode;
   std::atomic<int64_t> rays{0};
-  ShootingOptions shooting;
+  TransferShootingOptions shooting;
   shooting.rays = options.spp;
   shooting.tolerance = options.shoot_tolerance;
   shooting.max_rounds = options.max_rounds;
@@ -384,7 +384,7 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
     if (bounce) {
       const auto t0 = std::chrono::steady_clock::now();
       const PrtPatches set = texel_patches(scene, raster);
-      const ShootingResult shot =
+      const TransferShootingResult shot =
           shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
       bake.shoot_rounds += shot.rounds;
       bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
@@ -427,7 +427,7 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
     if (bounce) {
       const auto t0 = std::chrono::steady_clock::now();
       const PrtPatches set = vertex_patches(scene);
-      const ShootingResult shot =
+      const TransferShootingResult shot =
           shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
       bake.shoot_rounds += shot.rounds;
       bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);

@@ -99,8 +99,8 @@ struct PrtBake {
 // the adjacent triangles'; a hit is received by its triangle's corners by barycentric
 // weight). The receiver refers to `scene` and `raster`, which must outlive it.
 struct PrtPatches {
-  std::vector<ShootingPatch> patches;
-  Receiver receiver;
+  std::vector<TransferPatch> patches;
+  TransferReceiver receiver;
 };
 PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster);
 PrtPatches vertex_patches(const Scene& scene);

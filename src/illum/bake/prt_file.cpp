@@ -23,7 +23,10 @@ constexpr const char* kManifest = "prt.json";
 constexpr const char* kAtlasFile = "atlas.bin";
 constexpr const char* kTexelFile = "texels.bin";
 constexpr const char* kVertexFile = "vertices.bin";
+constexpr const char* kVqFile = "vq_representatives.bin";
+constexpr const char* kVqIndexFile = "vq_indices.bin";
 constexpr char kMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'T'};
+constexpr char kIndexMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'I'};
 constexpr uint32_t kVersion = 1;
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
 
@@ -166,6 +169,26 @@ void save_prt_set(const fs::path& folder, const PrtSet& set) {
       write_image((staging / "preview.png").string(),
                   tone_mapped(preview, ToneMapper::kClamp, 1.0f));
     }
+    if (set.vq.count() > 0) {
+      if (set.vq.dimension != int(channels) ||
+          set.vq.indices.size() != size_t(set.atlas.width) * size_t(set.atlas.height))
+        throw Error("PRT set: the VQ codebook does not match the atlas and bands");
+      write_block(staging / kVqFile, channels, set.vq.representatives.data(),
+                  uint64_t(set.vq.count()));
+      std::ofstream out(staging / kVqIndexFile, std::ios::binary);
+      const uint32_t header[3] = {kVersion, uint32_t(set.atlas.width), uint32_t(set.atlas.height)};
+      out.write(kIndexMagic, 8);
+      out.write(reinterpret_cast<const char*>(header), sizeof(header));
+      out.write(reinterpret_cast<const char*>(set.vq.indices.data()),
+                std::streamsize(set.vq.indices.size() * sizeof(uint16_t)));
+      if (!out) throw Error(fmt::format("{}: cannot write", (staging / kVqIndexFile).string()));
+      manifest["vq"] = {{"representatives", set.vq.count()},
+                        {"file", kVqFile},
+                        {"indices", kVqIndexFile},
+                        {"iterations", set.vq.iterations},
+                        {"max_distance", set.vq.max_distance},
+                        {"rms_distance", set.vq.rms_distance}};
+    }
     if (!set.vertex_transfer.empty()) {
       std::vector<float> all;
       nlohmann::json counts = nlohmann::json::array();
@@ -258,6 +281,41 @@ PrtSet load_prt_set(const fs::path& folder) {
                                        data.begin() + std::ptrdiff_t(at + c * channels));
       at += c * channels;
     }
+  }
+  if (j.contains("vq")) {
+    const nlohmann::json& v = j.at("vq");
+    if (!v.is_object()) throw Error(fmt::format("{}: 'vq' must be an object", mw));
+    const uint64_t count = unsigned_field(v, "representatives", mw, kMaxVqRepresentatives);
+    if (count == 0) throw Error(fmt::format("{}: 'vq' needs at least one representative", mw));
+    set.vq.dimension = int(channels);
+    set.vq.representatives = read_block(folder / file_field(v, "file", mw), channels, count);
+    const fs::path ipath = folder / file_field(v, "indices", mw);
+    const std::string iw = ipath.string();
+    std::ifstream in(ipath, std::ios::binary | std::ios::ate);
+    if (!in) throw Error(fmt::format("{}: cannot open", iw));
+    const uint64_t bytes = uint64_t(in.tellg());
+    in.seekg(0);
+    const uint64_t texels = uint64_t(set.atlas.width) * uint64_t(set.atlas.height);
+    const uint64_t expected = 8 + 12 + texels * 2;
+    char magic[8];
+    uint32_t header[3] = {0, 0, 0};
+    if (bytes >= 20) {
+      in.read(magic, 8);
+      in.read(reinterpret_cast<char*>(header), sizeof(header));
+    }
+    if (bytes < 20 || std::memcmp(magic, kIndexMagic, 8) != 0 || header[0] != kVersion)
+      throw Error(fmt::format("{}: not an ILLUMPRI version {} file", iw, kVersion));
+    if (header[1] != uint32_t(set.atlas.width) || header[2] != uint32_t(set.atlas.height))
+      throw Error(fmt::format("{}: {}x{} indices for a {}x{} atlas", iw, header[1], header[2],
+                              set.atlas.width, set.atlas.height));
+    if (bytes != expected)
+      throw Error(fmt::format("{}: {} bytes, {} expected", iw, bytes, expected));
+    set.vq.indices.resize(texels);
+    in.read(reinterpret_cast<char*>(set.vq.indices.data()), std::streamsize(texels * 2));
+    for (size_t i = 0; i < set.vq.indices.size(); ++i)
+      if (set.vq.indices[i] >= count)
+        throw Error(fmt::format("{}: index {} of texel {} is not below {} representatives", iw,
+                                set.vq.indices[i], i, count));
   }
   if (set.texel_transfer.empty() && set.vertex_transfer.empty())
     throw Error(fmt::format("{}: holds neither 'texels' nor 'vertices'", mw));

@@ -9,6 +9,10 @@
 //   atlas.bin     the atlas (atlas/atlas.h), to put uv1 on the scene again
 //   texels.bin    transfer per texel, dense over the atlas (dilated)
 //   vertices.bin  transfer per vertex, instances in Scene order
+//   vq_representatives.bin, vq_indices.bin   with --vq: the representatives (the block
+//                 format below, points = representatives) and "ILLUMPRI" u32 version 1,
+//                 u32 width, u32 height, width·height little-endian u16 indices; listed
+//                 under "vq" in the manifest
 //   preview.png   coefficient 0 of the texel map (the transfer under a constant sky), for people
 // Both .bin files: "ILLUMPRT" u32 version = 1, u32 channels (3·bands²), u64 points, then
 // points × channels little-endian f32 ([point][i][rgb]); nothing may follow.
@@ -26,6 +30,7 @@
 
 #include "illum/atlas/atlas.h"
 #include "illum/bake/prt_baker.h"
+#include "illum/bake/prt_vq.h"
 #include "illum/core/image.h"
 #include "illum/scene/scene.h"
 
@@ -37,6 +42,9 @@ struct PrtSet {
   PrtMode mode = PrtMode::kShadowed;
   TransferMap texel_transfer;                       // empty: no texels baked
   std::vector<std::vector<float>> vertex_transfer;  // empty: no vertices baked
+  // VQ-compressed texel transfer (prt_vq.h): one index per texel of the atlas, row-major;
+  // count() == 0 when the bake was not compressed.
+  VqCodebook vq;
   std::string scene;
   size_t scene_triangles = 0;
   std::string scene_hash;

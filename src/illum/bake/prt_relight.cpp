@@ -112,6 +112,8 @@ Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, co
     throw Error(fmt::format("{}: holds no texel transfer", set.folder));
   if (options.lookup == PrtLookup::kVertices && set.vertex_transfer.empty())
     throw Error(fmt::format("{}: holds no vertex transfer", set.folder));
+  if (options.lookup == PrtLookup::kVq && set.vq.count() == 0)
+    throw Error(fmt::format("{}: holds no VQ-compressed transfer (bake with --vq)", set.folder));
   if (options.width < 1 || options.height < 1 || options.samples < 1)
     throw Error("relight: image size and samples must be ≥ 1");
   ThreadLimit limit(options.threads);
@@ -139,7 +141,20 @@ Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, co
           const SurfaceInteraction si = tracer.interaction(ray, hit);
           const Instance& inst = scene.instances[hit.instance];
           const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
-          if (options.lookup == PrtLookup::kTexels) {
+          if (options.lookup == PrtLookup::kVq) {
+            const int w = set.atlas.width, h = set.atlas.height;
+            std::fill(t.begin(), t.end(), 0.0f);
+            for (int k = 0; k < 4; ++k) {
+              const float ox = (k & 1) ? 0.25f : -0.25f, oy = (k >> 1) ? 0.25f : -0.25f;
+              const int x = std::clamp(int(std::floor(si.uv1.x * float(w) + ox)), 0, w - 1);
+              const int y = std::clamp(int(std::floor(si.uv1.y * float(h) + oy)), 0, h - 1);
+              const float* r =
+                  &set.vq
+                       .representatives[size_t(set.vq.indices[size_t(y) * size_t(w) + size_t(x)]) *
+                                        channels];
+              for (size_t c = 0; c < channels; ++c) t[c] += 0.25f * r[c];
+            }
+          } else if (options.lookup == PrtLookup::kTexels) {
             // Bilinear over texel centres (texel (x, y) covers [x, x+1] in uv1 × size).
             const float u = si.uv1.x * float(map.width) - 0.5f;
             const float v = si.uv1.y * float(map.height) - 0.5f;

@@ -34,7 +34,9 @@ ShLight environment_light(int bands, const Environment& env);
 // mapping, rotation 0): what the path tracer is given to be lit by the same light.
 Image sh_environment_map(const ShLight& light, int width);
 
-enum class PrtLookup { kTexels, kVertices };
+// kVq: the VQ-compressed SHL-map, averaged over 4 nearest-representative taps at ±¼ texel
+// in x and y (S002 §5.8's multi-sampling filter).
+enum class PrtLookup { kTexels, kVertices, kVq };
 
 struct RelightOptions {
   int width = 512, height = 512;

@@ -33,12 +33,14 @@ double unshot_size(std::span<const float> u, float area) {
 
 }  // namespace
 
-ShootingResult shoot_transfer(const RayTracer& tracer, std::span<const ShootingPatch> patches,
-                              const Receiver& receiver, int payload, std::vector<float>& transfer,
-                              const ShootingOptions& options) {
+TransferShootingResult shoot_transfer(const RayTracer& tracer,
+                                      std::span<const TransferPatch> patches,
+                                      const TransferReceiver& receiver, int payload,
+                                      std::vector<float>& transfer,
+                                      const TransferShootingOptions& options) {
   const size_t n = patches.size(), p = static_cast<size_t>(payload);
   ILLUM_CHECK(payload > 0 && payload % 3 == 0 && transfer.size() == n * p && options.rays > 0);
-  ShootingResult result;
+  TransferShootingResult result;
   // U = albedo ∘ T: what each patch reflects of the light it received and has not shot.
   std::vector<float> unshot(transfer.size());
   std::vector<double> size(n);
@@ -75,7 +77,7 @@ ShootingResult shoot_transfer(const RayTracer& tracer, std::span<const ShootingP
             for (int64_t s = begin; s < end; ++s) {
               if (interrupt_requested()) return;
               const uint32_t j = shooters[b0 + size_t(s)];
-              const ShootingPatch& from = patches[j];
+              const TransferPatch& from = patches[j];
               const Frame frame = Frame::from_normal(from.normal);
               SobolSampler sampler(hash_mix(options.seed, j, round));
               const float share = from.area / float(options.rays);
@@ -89,7 +91,7 @@ ShootingResult shoot_transfer(const RayTracer& tracer, std::span<const ShootingP
                 Hit hit;
                 ++traced[size_t(s)];
                 if (!tracer.intersect(ray, &hit)) continue;
-                const Receipt receipt = receiver(ray, hit);
+                const TransferReceipt receipt = receiver(ray, hit);
                 for (int c = 0; c < receipt.count; ++c)
                   if (receipt.patch[c] >= 0 && receipt.weight[c] > 0.0f)
                     out.push_back({receipt.patch[c], receipt.weight[c] * share});
@@ -110,7 +112,7 @@ ShootingResult shoot_transfer(const RayTracer& tracer, std::span<const ShootingP
       for (size_t s = 0; s < batch; ++s) {
         const float* u = &shot[s * p];
         for (const Hop& hop : hops[s]) {
-          const ShootingPatch& to = patches[size_t(hop.patch)];
+          const TransferPatch& to = patches[size_t(hop.patch)];
           if (!(to.area > 0.0f)) continue;
           const float f = hop.factor / to.area;
           float* t = &transfer[size_t(hop.patch) * p];

@@ -13,7 +13,10 @@
 //
 // Kept apart from the PRT baker so that a shooting module shared with the radiosity
 // light-map baker (issue 11) can replace it: the patches, the receiver mapping and the
-// payload size are all this loop knows.
+// payload size are all this loop knows. The radiosity branch's generic module
+// (bake/progressive_shooting.h, radiosity commit 6842ed2) defines ShootingPatch and
+// ShootingOptions in this namespace; the names here start with Transfer so both can live
+// in one library until this loop is swapped for it.
 //
 // Deterministic: each shooter's rays come from its own scrambled Sobol' sequence (seed,
 // patch, round) and the receipts are applied in shooter order, whatever the thread count.
@@ -30,7 +33,7 @@
 
 namespace illum::bake {
 
-struct ShootingPatch {
+struct TransferPatch {
   vec3 position{0.0f};
   vec3 normal{0.0f, 0.0f, 1.0f};            // unit, shooting hemisphere (cosine about it)
   vec3 geometric_normal{0.0f, 0.0f, 1.0f};  // unit; rays below it are not shot
@@ -41,21 +44,21 @@ struct ShootingPatch {
 // Where a hit lands: up to 3 patches with weights summing to 1 (a texel: one; a vertex
 // hat basis: the triangle's three corners by barycentric weight). count = 0: nowhere (and
 // the receiver returns that for a hit on the back of a surface: T is the front side's).
-struct Receipt {
+struct TransferReceipt {
   int count = 0;
   int32_t patch[3] = {-1, -1, -1};
   float weight[3] = {0.0f, 0.0f, 0.0f};
 };
-using Receiver = std::function<Receipt(const Ray& ray, const Hit& hit)>;
+using TransferReceiver = std::function<TransferReceipt(const Ray& ray, const Hit& hit)>;
 
-struct ShootingOptions {
+struct TransferShootingOptions {
   int rays = 256;
   double tolerance = 1e-3;
   int max_rounds = 64;
   uint64_t seed = 0;
 };
 
-struct ShootingResult {
+struct TransferShootingResult {
   int rounds = 0;
   double unshot_fraction =
       0.0;  // unshot total / initial total at the end (0 when nothing to shoot)
@@ -65,8 +68,10 @@ struct ShootingResult {
 // `transfer` holds patches.size() × payload floats ([patch][payload], payload = 3 × SH
 // coefficient count, [i][rgb]): the direct transfer on entry, the interreflected on return.
 // Throws Interrupted on Ctrl-C.
-ShootingResult shoot_transfer(const RayTracer& tracer, std::span<const ShootingPatch> patches,
-                              const Receiver& receiver, int payload, std::vector<float>& transfer,
-                              const ShootingOptions& options);
+TransferShootingResult shoot_transfer(const RayTracer& tracer,
+                                      std::span<const TransferPatch> patches,
+                                      const TransferReceiver& receiver, int payload,
+                                      std::vector<float>& transfer,
+                                      const TransferShootingOptions& options);
 
 }  // namespace illum::bake
