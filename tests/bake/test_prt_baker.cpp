@@ -12,6 +12,7 @@
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_relight.h"
 #include "illum/bake/prt_shooting.h"
+#include "illum/bake/prt_vq.h"
 #include "illum/core/sh.h"
 #include "illum/scene/load.h"
 
@@ -89,7 +90,19 @@ TEST(PrtBaker, OpenPlaneUnderAConstantSkyIsExact) {
     camera.fov_y = radians(30.0f);
     bake::RelightOptions relight;
     relight.width = relight.height = 8;
-    for (bake::PrtLookup lookup : {bake::PrtLookup::kTexels, bake::PrtLookup::kVertices}) {
+    // Every texel has coefficient 0 exactly Y00 (unshadowed: the whole vector is the same),
+    // so any VQ codebook's representatives, means of texels, keep it: the 4-tap lookup of
+    // the compressed map must give the same pixels.
+    set.atlas.width = baked.texel_transfer.width;
+    set.atlas.height = baked.texel_transfer.height;
+    bake::VqOptions vq;
+    vq.representatives = 2;
+    set.vq = bake::vq_compress(baked.texel_transfer.data, baked.texel_transfer.channels, vq);
+    if (mode == PrtMode::kUnshadowed) {
+      EXPECT_LT(set.vq.max_distance, 1e-6);
+    }
+    for (bake::PrtLookup lookup :
+         {bake::PrtLookup::kTexels, bake::PrtLookup::kVertices, bake::PrtLookup::kVq}) {
       relight.lookup = lookup;
       const Image image = bake::relight(plane.scene, *plane.tracer, set, sky, camera, relight);
       for (int y = 0; y < 8; ++y)
