@@ -150,4 +150,19 @@ TEST_F(PrtCli, VqBakeRelightsAndRefusesBadIndices) {
   expect_bad_input(run("bake cornell --vq 16 -o " + (dir_ / "lm").string()), "--vq");
 }
 
+TEST_F(PrtCli, InterruptedBakeLeavesNoFolder) {
+  const fs::path folder = dir_ / "prt";
+  const std::string cmd = "sh -c '" + std::string(ILLUM_BINARY_DIR) +
+                          "/bin/illum bake cornell --kind prt --mode interreflected --spp 1000000 "
+                          "-o " +
+                          folder.string() +
+                          " 2>/dev/null & pid=$!; sleep 1; kill -INT $pid; wait $pid'";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++entries;
+  EXPECT_EQ(entries, 0);
+}
+
 }  // namespace
