@@ -14,6 +14,8 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
+#include "illum/bake/prt_baker.h"
+#include "illum/bake/prt_vq.h"
 #include "illum/bake/radiosity_baker.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
@@ -46,13 +48,33 @@ struct BakeArgs {
   int extras_rays = bake::kDefaultExtraRays;
   std::vector<std::string> params;  // atlas and baker keys
   LoadOptions load;
+  std::string kind = "lightmap";  // lightmap | prt (cmd_prt.cpp)
+  int bands = 4;                  // prt only
+  int vq = 0;                     // prt only
+  std::string mode = "shadowed";  // prt only
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void run_bake(const BakeArgs& args) {
+void run_bake(const BakeArgs& args, const CLI::App& cmd) {
+  if (args.kind != "lightmap" && args.kind != "prt")
+    throw Error(fmt::format("--kind '{}': lightmap or prt", args.kind));
+  for (const char* option : {"--bands", "--mode", "--vq"})
+    if (args.kind != "prt" && cmd.count(option))
+      throw Error(fmt::format("{} applies to --kind prt only", option));
+  if (args.kind == "prt") {
+    for (const char* option :
+         {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
+          "--extras-rays", "--method", "--threshold", "--time"})
+      if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
+    PrtBakeRequest request{args.scene,      args.output, args.mode,    args.resolution,
+                           args.spp,        args.bands,  args.threads, args.vq,
+                           args.texel_size, args.seed,   args.params,  args.load};
+    run_prt_bake(request);
+    return;
+  }
   bake::LightmapExtrasOptions extras_options;
   if (!args.extras.empty()) extras_options.select(args.extras);
   extras_options.ao_distance = args.ao_distance;
@@ -295,13 +317,26 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("-p,--param", args->params,
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
                   "denoise=true|false, denoise_strength)");
+  cmd->add_option("--kind", args->kind,
+                  "lightmap (path-traced light-map) or prt (SH transfer, docs/prt.md)")
+      ->capture_default_str();
+  cmd->add_option("--bands", args->bands, "prt: SH bands (bands² coefficients)")
+      ->transform(number(bake::kMinPrtBands, bake::kMaxPrtBands))
+      ->capture_default_str();
+  cmd->add_option("--vq", args->vq,
+                  "prt: also store the SHL-map VQ-compressed into this many representatives "
+                  "(16-bit indices; 0: not compressed)")
+      ->transform(number(0, bake::kMaxVqRepresentatives))
+      ->capture_default_str();
+  cmd->add_option("--mode", args->mode, "prt: unshadowed, shadowed or interreflected")
+      ->capture_default_str();
   add_load_options(cmd, &args->load);
   cmd->callback([args, cmd] {
     args->spp_given = cmd->count("--spp") > 0;
     args->bounces_given = cmd->count("--bounces") > 0;
     args->threshold_given = cmd->count("--threshold") > 0;
     args->time_given = cmd->count("--time") > 0;
-    run_bake(*args);
+    run_bake(*args, *cmd);
   });
 }
 

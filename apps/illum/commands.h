@@ -16,6 +16,19 @@ namespace illum::cli {
 void add_info_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_bake_command(CLI::App& app);
+void add_relight_command(CLI::App& app);
+
+// `illum bake --kind prt` (cmd_prt.cpp): the options it shares with the light-map bake.
+struct PrtBakeRequest {
+  std::string scene, output, mode;
+  int resolution = 512, spp = 256, bands = 4, threads = 0;
+  int vq = 0;  // representatives of the VQ-compressed SHL-map, 0: none
+  float texel_size = 0.0f;
+  uint64_t seed = 0;
+  std::vector<std::string> params;
+  LoadOptions load;
+};
+void run_prt_bake(const PrtBakeRequest& request);
 #ifdef ILLUM_HAVE_FRAME_COMMAND
 void add_frame_command(CLI::App& app);
 #endif

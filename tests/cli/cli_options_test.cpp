@@ -73,9 +73,9 @@ bool is_numeric(const std::string& type) {
   return type == "INT" || type == "UINT" || type == "FLOAT";
 }
 
-// Numeric options that may legitimately take a negative value (none yet); every other
-// numeric option must refuse "-1".
-const std::set<std::string> kNegativeAllowed = {};
+// Numeric options that may legitimately take a negative value; every other numeric option
+// must refuse "-1". `relight --rotate` turns the environment either way.
+const std::set<std::string> kNegativeAllowed = {"relight --rotate"};
 
 class CliOptionsTest : public CliTest {
  protected:
@@ -100,6 +100,13 @@ class CliOptionsTest : public CliTest {
         {"frame", {{"--width", "8"}, {"--height", "8"}, {"-o", out}}},
         {"view",
          {{"--width", "8"}, {"--height", "8"}, {"--frames", "1"}, {"--fallback-output", out}}},
+        {"relight",
+         {{"--prt", (dir_ / "prt").string()},
+          {"--sun", "0,-1,0"},
+          {"--width", "8"},
+          {"--height", "8"},
+          {"--spp", "1"},
+          {"-o", out}}},
     };
     const auto it = base.find(sub);
     if (it == base.end()) {

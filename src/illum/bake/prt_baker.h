@@ -1,0 +1,114 @@
+// Precomputed radiance transfer for diffuse surfaces (ALGORITHMS.md item 14, S002 §5.2–5.4:
+// CaSHL's SHL-maps, and the same per vertex). For every covered texel of a light-map atlas
+// and every vertex of the (atlas-applied) scene, an RGB vector T of bands² SH coefficients
+// such that, under distant light of world-space SH radiance coefficients L_i (convention:
+// core/sh.h, world frame, z the pole),
+//   E/π = Σ_i T_i L_i        and the outgoing radiance of the surface is albedo × E/π,
+// where E is the irradiance the point receives (direct and, in `interreflected` mode,
+// bounced). T carries no albedo of its own point — as the light-map's plain layer (E/π),
+// the renderer multiplies by the texture-resolved albedo — but the albedos of the surfaces
+// the light bounced off are in it (that is why T is RGB). Modes:
+//   unshadowed      T_i = (1/π) ∫ max(n·ω, 0) Y_i(ω) dω = (Λ_l/π) Y_i(n) (closed form,
+//                   core/sh zonal_along with the clamped-cosine factors; no rays)
+//   shadowed        T_i = (1/π) ∫ V(ω) max(n·ω, 0) Y_i(ω) dω, V = 1 when the ray to ω escapes;
+//                   `spp` cosine-distributed rays, T_i = (1/N) Σ V(ω_k) Y_i(ω_k)
+//   interreflected  shadowed + the light bounced between surfaces, by progressive shooting
+//                   of SH vectors (prt_shooting.h, S002 §5.4.3)
+// n is the interpolated (shading) normal; directions below the geometric surface count
+// zero, as in the light-map baker.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "illum/atlas/texel_raster.h"
+#include "illum/bake/prt_shooting.h"
+#include "illum/core/image.h"
+#include "illum/core/params.h"
+#include "illum/scene/scene.h"
+#include "illum/trace/ray_tracer.h"
+
+namespace illum::bake {
+
+enum class PrtMode { kUnshadowed, kShadowed, kInterreflected };
+const char* to_string(PrtMode mode);
+PrtMode prt_mode_from_string(const std::string& name);  // unshadowed|shadowed|interreflected
+
+inline constexpr int kMinPrtBands = 2;
+inline constexpr int kMaxPrtBands = 8;
+
+struct PrtBakeOptions {
+  int bands = 4;  // 2..8 (n² coefficients)
+  PrtMode mode = PrtMode::kShadowed;
+  int spp = 256;  // visibility rays per texel or vertex, and shooting rays per patch
+  // Shooting stops when the unshot transfer (Σ area·Σ|c| over patches) is below this share
+  // of the direct transfer's, or after max_rounds rounds (prt_shooting.h).
+  double shoot_tolerance = 1e-3;
+  int max_rounds = 64;
+  int dilate = 4;  // border passes of atlas::dilate on every coefficient map
+  uint64_t seed = 0;
+  bool texels = true;    // bake the SHL-map (per covered texel of the raster)
+  bool vertices = true;  // bake per vertex of every instance
+  int threads = 0;
+  bool progress = true;
+
+  // Keys: bands (2..8), mode, spp (1..2²⁰), shoot_tolerance (1e-6..1), max_rounds
+  // (0..10000), dilate (0..64), seed. Throws Error for out-of-range values or unknown names.
+  static PrtBakeOptions from_params(const Params& params);
+  void validate() const;  // the same ranges; throws Error
+};
+
+// A raster of transfer vectors (core Image holds at most 4 channels; this holds 3·bands²).
+struct TransferMap {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> data;  // row-major, `channels` floats per texel
+  TransferMap() = default;
+  TransferMap(int w, int h, int c)
+      : width(w), height(h), channels(c), data(size_t(w) * size_t(h) * size_t(c), 0.0f) {}
+  bool empty() const { return data.empty(); }
+  float* pixel(int x, int y) {
+    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
+  }
+  const float* pixel(int x, int y) const {
+    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
+  }
+};
+
+// Transfer vectors, each coefficient_count(bands) RGB triples laid out [point][i][rgb].
+struct PrtBake {
+  int bands = 0;
+  PrtMode mode = PrtMode::kShadowed;
+  // Raster-sized, 3·bands² channels ([i][rgb] per texel), dilated: uncovered texels next
+  // to charts filled by atlas::dilate, the rest zero. Empty when texels were not baked.
+  TransferMap texel_transfer;
+  // Per instance (Scene::instances order), per vertex of its mesh.
+  std::vector<std::vector<float>> vertex_transfer;
+  double seconds = 0.0;
+  double shoot_seconds = 0.0;    // part of seconds
+  int shoot_rounds = 0;          // texel and vertex shooting together
+  double unshot_fraction = 0.0;  // the larger of the two sets' unshot / direct at the end
+  int64_t rays = 0;
+  size_t texels = 0;  // covered texels baked
+  size_t vertices = 0;
+};
+
+// The patches the interreflected mode shoots between, and where a hit lands: one per covered
+// texel of `raster` (area: the world area of the texel's part of the charts, by clipping
+// each triangle's uv1 to the texel) or one per vertex of every instance (area: a third of
+// the adjacent triangles'; a hit is received by its triangle's corners by barycentric
+// weight). The receiver refers to `scene` and `raster`, which must outlive it.
+struct PrtPatches {
+  std::vector<TransferPatch> patches;
+  TransferReceiver receiver;
+};
+PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster);
+PrtPatches vertex_patches(const Scene& scene);
+
+// Bakes every covered texel of `raster` (may be empty when options.texels is false) and
+// every vertex. `tracer` must be built from `scene`. Polls interrupt_requested() and throws
+// Interrupted; throws Error for bad options.
+PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::TexelRaster& raster,
+                 const PrtBakeOptions& options);
+
+}  // namespace illum::bake

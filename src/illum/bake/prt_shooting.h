@@ -1,0 +1,77 @@
+// Progressive-refinement shooting of SH transfer vectors between patches (S002 §5.4.3,
+// CaSHL's bounce transfer, the analogue of CaLight's radiosity loop, §3.3): each patch holds
+// its transfer T (E/π per unit of light, prt_baker.h) and an unshot part U, the outgoing
+// transfer albedo ∘ (received, not yet shot). A round picks the patches whose unshot size
+// A·Σ|U| is at least a quarter of the largest (S002: "the patch with the largest or a
+// reasonably large un-shot transfer function", size by the sum of the absolute values of
+// the SH coefficients, weighted by area as the shot power is), and each shoots `rays`
+// cosine-distributed rays; a ray that hits the front of patch k's surface adds
+// (A_j / (rays·A_k))·U_j × weight to T_k and albedo_k ∘ that to U_k. In expectation that is
+// F_kj·U_j, the form factor from k to j (E_k/π = Σ_j F_kj L_j), so T converges to the
+// interreflected transfer. Rounds end when the unshot total is below `tolerance` × the
+// initial (direct) total, or after `max_rounds`.
+//
+// Kept apart from the PRT baker so that a shooting module shared with the radiosity
+// light-map baker (issue 11) can replace it: the patches, the receiver mapping and the
+// payload size are all this loop knows. The radiosity branch's generic module
+// (bake/progressive_shooting.h, radiosity commit 6842ed2) defines ShootingPatch and
+// ShootingOptions in this namespace; the names here start with Transfer so both can live
+// in one library until this loop is swapped for it.
+//
+// Deterministic: each shooter's rays come from its own scrambled Sobol' sequence (seed,
+// patch, round) and the receipts are applied in shooter order, whatever the thread count.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "illum/core/color.h"
+#include "illum/core/math.h"
+#include "illum/trace/ray_tracer.h"
+
+namespace illum::bake {
+
+struct TransferPatch {
+  vec3 position{0.0f};
+  vec3 normal{0.0f, 0.0f, 1.0f};            // unit, shooting hemisphere (cosine about it)
+  vec3 geometric_normal{0.0f, 0.0f, 1.0f};  // unit; rays below it are not shot
+  float area = 0.0f;  // world m²; a patch of 0 area neither shoots nor receives
+  Color albedo{0.0f};
+};
+
+// Where a hit lands: up to 3 patches with weights summing to 1 (a texel: one; a vertex
+// hat basis: the triangle's three corners by barycentric weight). count = 0: nowhere (and
+// the receiver returns that for a hit on the back of a surface: T is the front side's).
+struct TransferReceipt {
+  int count = 0;
+  int32_t patch[3] = {-1, -1, -1};
+  float weight[3] = {0.0f, 0.0f, 0.0f};
+};
+using TransferReceiver = std::function<TransferReceipt(const Ray& ray, const Hit& hit)>;
+
+struct TransferShootingOptions {
+  int rays = 256;
+  double tolerance = 1e-3;
+  int max_rounds = 64;
+  uint64_t seed = 0;
+};
+
+struct TransferShootingResult {
+  int rounds = 0;
+  double unshot_fraction =
+      0.0;  // unshot total / initial total at the end (0 when nothing to shoot)
+  int64_t rays = 0;
+};
+
+// `transfer` holds patches.size() × payload floats ([patch][payload], payload = 3 × SH
+// coefficient count, [i][rgb]): the direct transfer on entry, the interreflected on return.
+// Throws Interrupted on Ctrl-C.
+TransferShootingResult shoot_transfer(const RayTracer& tracer,
+                                      std::span<const TransferPatch> patches,
+                                      const TransferReceiver& receiver, int payload,
+                                      std::vector<float>& transfer,
+                                      const TransferShootingOptions& options);
+
+}  // namespace illum::bake
