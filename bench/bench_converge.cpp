@@ -315,7 +315,7 @@ int run_converge(SuiteArgs args) {
     write_json(jobs_file, jobs);
     const std::string log_file = scene_stem + "-blender.log";
     const std::string command =
-        fmt::format("{} -b --factory-startup --python {} -- --jobs {} > {} 2>&1",
+        fmt::format("{} -b --factory-startup --python-exit-code 1 --python {} -- --jobs {} > {} 2>&1",
                     shell_quote(blender), shell_quote(peer_script),
                     shell_quote(fs::absolute(jobs_file).string()), shell_quote(log_file));
     std::printf("  running Blender Cycles (log: %s)\n", log_file.c_str());
