@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -51,14 +52,16 @@ struct Render {
   uint64_t seed = 0;
   std::string exr;
   double seconds = 0.0;
+  double cpu_seconds = 0.0;  // process CPU time, all threads
   Image image;
 };
 
 struct Point {  // one sample count of one renderer
   int spp = 0;
-  double seconds = 0.0;  // mean of the two renders
+  double seconds = 0.0;      // mean of the two renders
+  double cpu_seconds = 0.0;  // the same in CPU time, which other processes disturb less
   RelativeVariance variance;
-  double efficiency = 0.0;
+  double efficiency = 0.0, efficiency_cpu = 0.0;
 };
 
 struct RendererResult {
@@ -94,6 +97,8 @@ std::vector<Point> evaluate(const std::vector<Render>& renders, const Image& ref
     p.seconds = 0.5 * (a.seconds + b.seconds);
     p.variance = relative_variance(a.image, b.image, reference);
     p.efficiency = efficiency(p.variance.value, p.seconds);
+    p.cpu_seconds = 0.5 * (a.cpu_seconds + b.cpu_seconds);
+    p.efficiency_cpu = efficiency(p.variance.value, p.cpu_seconds);
     points.push_back(p);
   }
   return points;
@@ -131,11 +136,12 @@ nlohmann::json mean_match(const Image& illum_ref, const Image& peer_ref) {
 }
 
 void print_points(const RendererResult& r) {
-  std::printf("  %-7s %6s %10s %12s %10s %12s\n", r.name.c_str(), "spp", "seconds", "rel.var",
-              "rel.err", "efficiency");
+  std::printf("  %-7s %6s %10s %10s %12s %10s %12s %12s\n", r.name.c_str(), "spp", "seconds",
+              "cpu s", "rel.var", "rel.err", "efficiency", "eff. (cpu)");
   for (const Point& p : r.points)
-    std::printf("  %-7s %6d %10.3f %12.4e %10.4f %12.4g\n", "", p.spp, p.seconds, p.variance.value,
-                std::sqrt(p.variance.value), p.efficiency);
+    std::printf("  %-7s %6d %10.3f %10.3f %12.4e %10.4f %12.4g %12.4g\n", "", p.spp, p.seconds,
+                p.cpu_seconds, p.variance.value, std::sqrt(p.variance.value), p.efficiency,
+                p.efficiency_cpu);
 }
 
 nlohmann::json points_json(const RendererResult& r) {
@@ -146,7 +152,9 @@ nlohmann::json points_json(const RendererResult& r) {
                  {"relative_variance", p.variance.value},
                  {"epsilon", p.variance.epsilon},
                  {"relative_error", std::sqrt(p.variance.value)},
-                 {"efficiency", p.efficiency}});
+                 {"efficiency", p.efficiency},
+                 {"cpu_seconds", p.cpu_seconds},
+                 {"efficiency_cpu", p.efficiency_cpu}});
   return a;
 }
 
@@ -241,8 +249,10 @@ int run_converge(SuiteArgs args) {
     r.spp = spp;
     r.seed = s;
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     r.image = integrator->render(tracer, camera, o);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.cpu_seconds = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     return r;
   };
   RendererResult illum;
@@ -314,10 +324,10 @@ int run_converge(SuiteArgs args) {
     const std::string jobs_file = scene_stem + "-jobs.json";
     write_json(jobs_file, jobs);
     const std::string log_file = scene_stem + "-blender.log";
-    const std::string command =
-        fmt::format("{} -b --factory-startup --python-exit-code 1 --python {} -- --jobs {} > {} 2>&1",
-                    shell_quote(blender), shell_quote(peer_script),
-                    shell_quote(fs::absolute(jobs_file).string()), shell_quote(log_file));
+    const std::string command = fmt::format(
+        "{} -b --factory-startup --python-exit-code 1 --python {} -- --jobs {} > {} 2>&1",
+        shell_quote(blender), shell_quote(peer_script),
+        shell_quote(fs::absolute(jobs_file).string()), shell_quote(log_file));
     std::printf("  running Blender Cycles (log: %s)\n", log_file.c_str());
     std::fflush(stdout);
     if (std::system(command.c_str()) != 0 || !fs::exists(timings))
@@ -335,6 +345,7 @@ int run_converge(SuiteArgs args) {
         throw Error(fmt::format("converge: {} lists {} where {} was expected", timings,
                                 tr["exr"].get<std::string>(), r.exr));
       r.seconds = tr["seconds"].get<double>();
+      r.cpu_seconds = tr["cpu_seconds"].get<double>();
       r.image = read_image(r.exr, false);
     }
     c.reference = read_image(c.reference_file, false);
@@ -362,14 +373,15 @@ int run_converge(SuiteArgs args) {
   j["reference_spp"] = reference_spp;
   j["relative_floor"] = kRelativeFloor;
   j["machine"] = machine_info();
+  std::vector<std::string> warnings;
   auto renderer_json = [&](const RendererResult& r) {
     const Point& last = r.points.back();
     const double ref_var =
         reference_relative_variance(last.variance.value, last.spp, reference_spp);
     if (ref_var > kMaxReferenceVariance)
-      std::printf(
-          "  WARNING: %s reference's own relative variance %.3g > %.3g: raise --reference-spp\n",
-          r.name.c_str(), ref_var, kMaxReferenceVariance);
+      warnings.push_back(fmt::format(
+          "  WARNING: {} reference's own relative variance {:.3g} > {:.3g}: raise --reference-spp",
+          r.name, ref_var, kMaxReferenceVariance));
     nlohmann::json o = {{"reference", r.reference_file},
                         {"reference_seconds", r.reference_seconds},
                         {"reference_relative_variance", ref_var},
@@ -386,6 +398,8 @@ int run_converge(SuiteArgs args) {
     std::printf(", cycles %.3g", j["cycles"]["reference_relative_variance"].get<double>());
   }
   std::printf("\n");
+  for (const std::string& w : warnings) std::printf("%s\n", w.c_str());
+
   LogLogPlot plot;
   plot.title = fmt::format("{} {}x{}: relative error vs time", stem, width, height);
   plot.x_label = "seconds per render";
@@ -407,22 +421,30 @@ int run_converge(SuiteArgs args) {
   if (cycles) {
     plot.series.push_back(series(*cycles, {0.9f, 0.45f, 0.05f}));
     nlohmann::json ratios = nlohmann::json::array();
-    double log_sum = 0.0;
-    std::printf("  efficiency ratio illum/cycles:");
+    double log_sum = 0.0, log_sum_cpu = 0.0;
+    std::printf("  efficiency ratio illum/cycles (wall time; CPU time):");
     for (size_t i = 0; i < illum.points.size(); ++i) {
       const double q = illum.points[i].efficiency / cycles->points[i].efficiency;
       const double var_q = illum.points[i].variance.value / cycles->points[i].variance.value;
       const double time_q = illum.points[i].seconds / cycles->points[i].seconds;
+      const double q_cpu = illum.points[i].efficiency_cpu / cycles->points[i].efficiency_cpu;
+      log_sum_cpu += std::log(q_cpu);
       ratios.push_back({{"spp", illum.points[i].spp},
                         {"efficiency_ratio", q},
+                        {"efficiency_ratio_cpu", q_cpu},
                         {"variance_ratio", var_q},
                         {"time_ratio", time_q}});
       log_sum += std::log(q);
-      std::printf(" %d spp %.3f (variance x%.3f, time x%.3f);", illum.points[i].spp, q, var_q,
-                  time_q);
+      std::printf("\n    %5d spp: %.3f; %.3f  (variance x%.3f, wall time x%.3f)",
+                  illum.points[i].spp, q, q_cpu, var_q, time_q);
     }
     const double geo = std::exp(log_sum / static_cast<double>(illum.points.size()));
-    std::printf("\n  efficiency ratio illum/cycles, geometric mean over the series: %.3f\n", geo);
+    const double geo_cpu = std::exp(log_sum_cpu / static_cast<double>(illum.points.size()));
+    std::printf(
+        "\n  efficiency ratio illum/cycles, geometric mean over the series: %.3f (CPU time: "
+        "%.3f)\n",
+        geo, geo_cpu);
+    j["efficiency_ratio_cpu_geometric_mean"] = geo_cpu;
     const nlohmann::json match = mean_match(illum.reference, cycles->reference);
     std::printf(
         "  reference means: cycles/illum %.4f (R %.4f G %.4f B %.4f), furthest 4x4 region %d: "

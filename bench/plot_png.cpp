@@ -175,7 +175,13 @@ void write_loglog_png(const LogLogPlot& plot, const std::string& path, int width
     const double x0 = plot.series[0].x[0], y0 = plot.series[0].y[0];
     const double xa = std::pow(10.0, lx0), xb = std::pow(10.0, lx1);
     auto gy = [&](double x) { return y0 * std::pow(x / x0, plot.guide_slope); };
-    c.line(px(xa), py(gy(xa)), px(xb), py(gy(xb)), Color(0.55f));
+    // Clipped to the plot's y range: x where the guide leaves [10^ly0, 10^ly1].
+    const double ya = std::pow(10.0, ly1), yb = std::pow(10.0, ly0);
+    const double x_top = x0 * std::pow(ya / y0, 1.0 / plot.guide_slope),
+                 x_bottom = x0 * std::pow(yb / y0, 1.0 / plot.guide_slope);
+    const double c0 = std::max(xa, std::min(x_top, x_bottom)),
+                 c1 = std::min(xb, std::max(x_top, x_bottom));
+    if (c0 < c1) c.line(px(c0), py(gy(c0)), px(c1), py(gy(c1)), Color(0.55f));
     if (!plot.guide_label.empty())
       c.text(static_cast<int>(px(xb)) - 6 * static_cast<int>(plot.guide_label.size()) - 4,
              static_cast<int>(py(gy(xb))) - 12, plot.guide_label, Color(0.45f));

@@ -266,7 +266,7 @@ _stats_times = []
 def _on_stats(*_):
     # Blender 3.4 passes no text to render_stats handlers; the k-th call follows the k-th
     # status line it prints ("Fra:1 ... | Sample 0/N"), read back from the log afterwards.
-    _stats_times.append(time.perf_counter())
+    _stats_times.append((time.perf_counter(), time.process_time()))
 
 
 class StatusLog:
@@ -289,7 +289,7 @@ class StatusLog:
 
 
 def render(scene, spp, seed, log):
-    """Renders and returns the seconds from the start of path tracing (the first "Sample 0/"
+    """Renders and returns the seconds (wall, and process CPU time of all threads) from the start of path tracing (the first "Sample 0/"
     status, after the scene sync and BVH build) to the end of the render call. Persistent
     data cannot keep the scene between renders here (Blender 3.4 ignores a changed sample
     count with it), so each render syncs the scene and builds the BVH again; that part is
@@ -301,14 +301,14 @@ def render(scene, spp, seed, log):
         bpy.app.handlers.render_stats.append(_on_stats)
     log.new_status_lines()
     bpy.ops.render.render(write_still=False)
-    end = time.perf_counter()
+    end, end_cpu = time.perf_counter(), time.process_time()
     lines = log.new_status_lines()
     if len(lines) != len(_stats_times):
         fail("%d status lines but %d status calls: cannot time the path tracing" % (
             len(lines), len(_stats_times)))
-    for line, t in zip(lines, _stats_times):
+    for line, (t, t_cpu) in zip(lines, _stats_times):
         if "| Sample 0/" in line:
-            return end - t
+            return end - t, end_cpu - t_cpu
     fail("no 'Sample 0/' status: cannot tell where path tracing started")
 
 
@@ -327,12 +327,13 @@ def run_jobs(jobs_path):
     add_meshes(scene, data, folder)
     add_lights(scene, data, folder)
     log = StatusLog()
-    render(scene, 1, 0, log)  # warm-up: sync, BVH, kernels (kept by persistent data)
+    render(scene, 1, 0, log)  # warm-up: kernel loading, image decoding
     results = []
     for job in jobs["renders"]:
-        seconds = render(scene, int(job["spp"]), int(job["seed"]), log)
+        seconds, cpu_seconds = render(scene, int(job["spp"]), int(job["seed"]), log)
         bpy.data.images["Render Result"].save_render(job["exr"], scene=scene)
-        results.append({"exr": job["exr"], "spp": job["spp"], "seed": job["seed"], "seconds": seconds})
+        results.append({"exr": job["exr"], "spp": job["spp"], "seed": job["seed"], "seconds": seconds,
+                        "cpu_seconds": cpu_seconds})
         print("cycles_peer: %s %d spp in %.3f s" % (os.path.basename(job["exr"]), job["spp"], seconds))
     c = scene.cycles
     settings = {k: getattr(c, k) for k in (
