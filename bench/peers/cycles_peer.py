@@ -206,6 +206,10 @@ def add_meshes(scene, data, folder):
             [(nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2]) for v in range(nv)])
         mesh.materials.append(materials[m["material"]])
         obj = bpy.data.objects.new(m["name"] or "mesh%d" % i, mesh)
+        # Cycles moves shadow-ray origins of smooth-shaded triangles towards the smooth
+        # surface (geometry offset, default 0.1); illum offsets along the true normal only.
+        obj.cycles.shadow_terminator_geometry_offset = 0.0
+        obj.cycles.shadow_terminator_offset = 0.0
         scene.collection.objects.link(obj)
 
 
