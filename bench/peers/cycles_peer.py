@@ -300,6 +300,9 @@ def render(scene, spp, seed, log):
     left out of the time, as illum's BVH build is."""
     scene.cycles.samples = spp
     scene.cycles.seed = seed
+    if log is None:  # untimed (calibration)
+        bpy.ops.render.render(write_still=False)
+        return 0.0, 0.0
     _stats_times.clear()
     if _on_stats not in bpy.app.handlers.render_stats:
         bpy.app.handlers.render_stats.append(_on_stats)
@@ -380,7 +383,7 @@ def calibrate_ies():
                  "position": [0, 0, 1], "direction": [0, 0, -1], "cone_half_angle": math.radians(40),
                  "power_w": [4 * math.pi] * 3}
         add_lights(scene, {"lights": [light]}, folder)
-        render(scene, 16, 0, StatusLog())
+        render(scene, 16, 0, None)
         path = os.path.join(folder, mode + ".exr")
         bpy.data.images["Render Result"].save_render(path, scene=scene)
         img = bpy.data.images.load(path)
