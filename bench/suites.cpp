@@ -30,6 +30,8 @@ std::span<const Suite> suites() {
        &run_radiosity},
       {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
        &run_photon_defaults},
+      {"converge", "equal-noise efficiency 1/(variance x time), illum vs Blender Cycles",
+       &run_converge},
 #ifdef ILLUM_BENCH_HAVE_GPU
       {"raster", "real-time passes (illum frame --json) beside this GPU's raster and memory bounds",
        &run_raster},

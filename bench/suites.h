@@ -39,6 +39,8 @@ int run_lightmap_extras(SuiteArgs args);  // bench_lightmap_extras.cpp: AO/obscu
 int run_radiosity(SuiteArgs args);  // bench_radiosity.cpp: radiosity vs path bake, equal error
 // bench_photon_defaults.cpp: the photon integrator's defaults vs the path tracer
 int run_photon_defaults(SuiteArgs args);
+// bench_converge.cpp: equal-noise efficiency, illum vs Blender Cycles (peer)
+int run_converge(SuiteArgs args);
 #ifdef ILLUM_BENCH_HAVE_GPU
 int run_raster(SuiteArgs args);  // bench_raster.cpp: real-time passes beside the device's bounds
 #endif

@@ -17,6 +17,8 @@ packages=(
   # cannot compile libstdc++ 12's std::source_location, which illum::Error uses.
   clang-16 libclang-rt-16-dev llvm-16
 )
+# Optional, not installed here: `blender` (Debian's, 3.4) for `illum-bench converge`'s Cycles
+# peer (bench/peers/; its test has the label `peer`, outside CI), `linux-perf` for profiling.
 
 missing=()
 for p in "${packages[@]}"; do
