@@ -101,15 +101,44 @@ const LightmapExtra* LightmapSet::extra(const std::string& name) const {
 namespace {
 
 // The folder a path names, absolute, without a trailing separator ("out/" is "out").
-fs::path output_folder(const fs::path& folder) {
+}  // namespace
+
+fs::path bake_output_folder(const fs::path& folder) {
   fs::path target = fs::absolute(folder).lexically_normal();
   return target.has_filename() ? target : target.parent_path();
 }
 
-}  // namespace
+void write_bake_folder(const fs::path& folder, const std::string& manifest_name,
+                       const std::function<nlohmann::json(const fs::path&)>& fill) {
+  const fs::path target = bake_output_folder(folder);
+  const fs::path parent = target.parent_path();
+  std::random_device random;
+  const fs::path staging =
+      parent / fmt::format(".{}.partial-{:08x}", target.filename().string(), random());
+  fs::create_directories(staging);
+  try {
+    const nlohmann::json manifest = fill(staging);
+    {
+      std::ofstream file(staging / manifest_name);
+      file << manifest.dump(2) << "\n";
+      if (!file) throw Error(fmt::format("{}: cannot write the manifest", folder.string()));
+    }
+    fs::path old;
+    if (fs::exists(target)) {
+      old = parent / fmt::format(".{}.old-{:08x}", target.filename().string(), random());
+      fs::rename(target, old);
+    }
+    fs::rename(staging, target);
+    if (!old.empty()) fs::remove_all(old);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+    throw;
+  }
+}
 
 void check_lightmap_output(const fs::path& folder) {
-  const fs::path target = output_folder(folder);
+  const fs::path target = bake_output_folder(folder);
   if (!fs::is_directory(target.parent_path()))
     throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
                             target.parent_path().string()));
@@ -148,14 +177,7 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
     check_extra_values(fmt::format("light-map set: extra map '{}'", e.name), e.name, e.image);
   }
   check_lightmap_output(folder);
-  const fs::path target = output_folder(folder);
-  const fs::path parent = target.parent_path();
-
-  std::random_device random;
-  const fs::path staging =
-      parent / fmt::format(".{}.partial-{:08x}", target.filename().string(), random());
-  fs::create_directories(staging);
-  try {
+  write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
     nlohmann::json layers = nlohmann::json::array();
     ImageWriteOptions exr;
     exr.exr_half = true;
@@ -187,24 +209,8 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
                                {"bake", set.bake}};
     if (!set.scene_hash.empty()) manifest["scene_hash"] = set.scene_hash;
     if (!set.extras.empty()) manifest["extras"] = extras;
-    {
-      std::ofstream file(staging / kManifest);
-      file << manifest.dump(2) << "\n";
-      if (!file) throw Error(fmt::format("{}: cannot write the manifest", folder.string()));
-    }
-    // Swap the finished folder in: an earlier set moves aside first and is removed after.
-    fs::path old;
-    if (fs::exists(target)) {
-      old = parent / fmt::format(".{}.old-{:08x}", target.filename().string(), random());
-      fs::rename(target, old);
-    }
-    fs::rename(staging, target);
-    if (!old.empty()) fs::remove_all(old);
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove_all(staging, ignored);
-    throw;
-  }
+    return manifest;
+  });
 }
 
 namespace {

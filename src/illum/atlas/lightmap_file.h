@@ -18,6 +18,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,14 @@ int lightmap_layer_count(const std::string& basis);
 // exist or holds an earlier light-map set. save_lightmap_set checks this too; callers run it
 // before long work so a bad path fails at once.
 void check_lightmap_output(const std::filesystem::path& folder);
+// The absolute, normalised folder a bake writes (a trailing separator dropped).
+std::filesystem::path bake_output_folder(const std::filesystem::path& folder);
+// Writes a bake folder whole or not at all (light-map and PRT folders): `fill` writes the
+// data files into a hidden sibling folder and returns the manifest, written last as
+// `manifest_name`; then the finished folder is swapped in (an earlier one moved aside first,
+// removed after). Any exception removes the sibling and leaves `folder` as it was.
+void write_bake_folder(const std::filesystem::path& folder, const std::string& manifest_name,
+                       const std::function<nlohmann::json(const std::filesystem::path&)>& fill);
 void save_lightmap_set(const std::filesystem::path& folder, const LightmapSet& set);
 // Throws Error naming the folder and the problem: missing folder or manifest, malformed
 // JSON, wrong format/version, unknown basis or content, missing or mis-sized layers, a bad

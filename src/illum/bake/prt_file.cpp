@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <random>
 
 #include <fmt/format.h>
 
@@ -29,11 +28,6 @@ constexpr char kMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'T'};
 constexpr char kIndexMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'I'};
 constexpr uint32_t kVersion = 1;
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
-
-fs::path output_folder(const fs::path& folder) {
-  fs::path target = fs::absolute(folder).lexically_normal();
-  return target.has_filename() ? target : target.parent_path();
-}
 
 void write_block(const fs::path& path, uint32_t channels, const float* data, uint64_t points) {
   std::ofstream out(path, std::ios::binary);
@@ -112,7 +106,7 @@ std::string file_field(const nlohmann::json& j, const char* key, const std::stri
 }  // namespace
 
 void check_prt_output(const fs::path& folder) {
-  const fs::path target = output_folder(folder);
+  const fs::path target = atlas::bake_output_folder(folder);
   if (!fs::is_directory(target.parent_path()))
     throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
                             target.parent_path().string()));
@@ -132,13 +126,7 @@ void save_prt_set(const fs::path& folder, const PrtSet& set) {
   for (const auto& v : set.vertex_transfer)
     if (v.size() % channels != 0) throw Error("PRT set: a vertex transfer is not whole points");
   check_prt_output(folder);
-  const fs::path target = output_folder(folder);
-  const fs::path parent = target.parent_path();
-  std::random_device random;
-  const fs::path staging =
-      parent / fmt::format(".{}.partial-{:08x}", target.filename().string(), random());
-  fs::create_directories(staging);
-  try {
+  atlas::write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
     nlohmann::json manifest = {{"format", "illum-prt"},
                                {"version", kVersion},
                                {"bands", set.bands},
@@ -199,23 +187,8 @@ void save_prt_set(const fs::path& folder, const PrtSet& set) {
       write_block(staging / kVertexFile, channels, all.data(), all.size() / channels);
       manifest["vertices"] = {{"file", kVertexFile}, {"vertex_counts", counts}};
     }
-    {
-      std::ofstream file(staging / kManifest);
-      file << manifest.dump(2) << "\n";
-      if (!file) throw Error(fmt::format("{}: cannot write the manifest", folder.string()));
-    }
-    fs::path old;
-    if (fs::exists(target)) {
-      old = parent / fmt::format(".{}.old-{:08x}", target.filename().string(), random());
-      fs::rename(target, old);
-    }
-    fs::rename(staging, target);
-    if (!old.empty()) fs::remove_all(old);
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove_all(staging, ignored);
-    throw;
-  }
+    return manifest;
+  });
 }
 
 PrtSet load_prt_set(const fs::path& folder) {
