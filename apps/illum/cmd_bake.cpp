@@ -17,6 +17,7 @@
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
 #include "illum/scene/load.h"
+#include "job_role.h"
 #include "option_checks.h"
 
 namespace illum::cli {
@@ -53,7 +54,8 @@ void run_bake(const BakeArgs& args) {
   extras_options.obscurance_dmax = args.obscurance_dmax;
   extras_options.rays = args.extras_rays;
   extras_options.seed = args.seed;
-  extras_options.threads = args.threads;
+  const int threads = threads_for_this_rank(args.threads);
+  extras_options.threads = threads;
   atlas::check_lightmap_output(args.output);  // before the long work, not after
 
   nlohmann::json j = key_values_to_json(args.params);
@@ -74,11 +76,11 @@ void run_bake(const BakeArgs& args) {
   const Params params(j, "--param");
   const atlas::AtlasOptions atlas_options = atlas::AtlasOptions::from_params(params);
   bake::LightmapBakeOptions bake_options = bake::LightmapBakeOptions::from_params(params);
-  bake_options.threads = args.threads;
+  bake_options.threads = threads;
   extras_options.dilate = bake_options.dilate;
   params.check_all_used();
 
-  ThreadLimit limit(args.threads);
+  ThreadLimit limit(threads);
   Scene scene = load_scene(args.scene, args.load);
   const size_t scene_triangles = scene.triangle_count();
 
@@ -118,6 +120,8 @@ void run_bake(const BakeArgs& args) {
           {{"distance", extras.ao_distance}, {"encoding", "world-space unit xyz in [-1, 1]"}});
   }
 
+  if (!writes_output()) return;  // rank 0 of the MPI job holds the maps
+  stop_if_interrupted();
   set.basis = bake::to_string(baked.basis);
   set.content = bake::to_string(baked.content);
   set.layers = std::move(baked.layers);
@@ -193,7 +197,8 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--seed", args->seed,
                   "random seed (same seed: same maps, whatever the thread count)")
       ->transform(number<uint64_t>(0, UINT64_MAX));
-  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
+  cmd->add_option("--threads", args->threads,
+                  "worker threads (0: all cores; under mpirun the node's cores over its ranks)")
       ->transform(number(0, 4096));
   cmd->add_option("--extras", args->extras,
                   "extra maps beside the layers, comma-separated: ao (cosine-weighted ambient "
