@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "illum 0.1.0");
   std::string log_level = "warn";
+  std::unique_ptr<illum::distributed::MpiJob> job;  // under mpirun only
   bool other_rank = false;  // a rank other than 0 of an MPI job: rank 0 says the warnings
   app.add_option("--log", log_level, "log level")
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
@@ -91,6 +92,9 @@ int main(int argc, char** argv) {
                         : log_level == "error" ? Level::kError
                                                : Level::kOff;
     illum::log::set_level(other_rank && level < Level::kError ? Level::kError : level);
+    if (job && job->rank() == 0)
+      illum::log::info("distributed: {} ranks, {} on this node, {} threads per rank by default",
+                       job->ranks(), job->ranks_on_node(), job->threads_per_rank());
   });
 
   illum::cli::add_info_command(app);
@@ -116,7 +120,6 @@ int main(int argc, char** argv) {
   illum::install_interrupt_handler();
   // Under mpirun (and only there: see distributed/README.md) the process is one rank of a
   // job; render and bake split their work across the ranks, and rank 0 writes the output.
-  std::unique_ptr<illum::distributed::MpiJob> job;
   std::unique_ptr<illum::ScopedWorkSplit> installed;
   if (illum::distributed::launched_by_mpi_launcher()) {
     try {
