@@ -1,7 +1,6 @@
 #include "illum/distributed/mpi_job.h"
 
 #include <mpi.h>
-#include <sched.h>
 
 #include <algorithm>
 #include <atomic>
@@ -65,15 +64,6 @@ MpiJob::MpiJob(int* argc, char*** argv) {
   MPI_Comm_free(&node);
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   threads_per_rank_ = std::max(1, cores / std::max(1, ranks_on_node_));
-  // mpirun binds each rank to one core when it starts two or fewer (to a socket above):
-  // threads beyond the bound cores would only take turns on them.
-  cpu_set_t bound;
-  if (rank_ == 0 && sched_getaffinity(0, sizeof(bound), &bound) == 0 &&
-      CPU_COUNT(&bound) < threads_per_rank_)
-    log::warn(
-        "distributed: mpirun bound each rank to {} core(s), fewer than its {} threads; start "
-        "it with --bind-to none (or --map-by slot:PE={}) to use them",
-        CPU_COUNT(&bound), threads_per_rank_, threads_per_rank_);
   if (const char* text = std::getenv("ILLUM_TEST_ABORT_RANK")) test_abort_rank_ = std::atoi(text);
 }
 
@@ -95,6 +85,15 @@ void MpiJob::run(int64_t count, size_t record_bytes, int grain, const UnitWork& 
   const int64_t fit = std::max<int64_t>(
       1, (kMaxUnitBytes - kHeaderBytes) / static_cast<int64_t>(std::max<size_t>(1, record_bytes)));
   const int64_t want = std::clamp<int64_t>(threads * std::max(1, grain), 1, fit);
+  // mpirun binds each rank to one core when it starts two or fewer (to a socket above):
+  // threads asked for beyond the cores a rank may use would only take turns on them.
+  const size_t asked =
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  if (rank_ == 0 && phase_ == 1 && asked > static_cast<size_t>(threads))
+    log::warn(
+        "distributed: a rank may use {} core(s) (mpirun binds ranks to cores), fewer than its {} "
+        "threads; start mpirun with --bind-to none (or --map-by slot:PE={}) to use them",
+        threads, asked, asked);
   if (rank_ == 0)
     serve(count, record_bytes, want, tag, work, keep);
   else
