@@ -129,10 +129,12 @@ Image render_tiles(const Camera& camera, const RenderOptions& options, const std
         tiles, 1,
         [&](int64_t i) {
           TileRecord record{};
-          if (interrupt_requested()) return record;  // Ctrl-C: the split throws after it
           const Tile tile = tile_of(i);
           int passes = 0;
           for (int first = 0, pass_spp = 1; first < options.spp;) {
+            // Ctrl-C (or mpirun's SIGTERM): a tile holds all its passes, so poll between
+            // them as the one-process loop does; the split throws after the unit.
+            if (interrupt_requested()) return record;
             const int count = std::min(pass_spp, options.spp - first);
             record.dropped += render_pass(tile, first, count, record.sum, kRenderTileSize);
             first += count;
