@@ -14,7 +14,7 @@ namespace illum::distributed {
 
 // True when an MPI launcher started this process (Open MPI's mpirun/mpiexec, or a PMIx
 // launcher such as srun --mpi=pmix). Without one the program never calls MPI_Init: a
-// singleton MPI_Init costs about half a second in a container and can print warnings.
+// singleton MPI_Init costs about 0.4 s in a container (README.md) and can print warnings.
 bool launched_by_mpi_launcher();
 
 class MpiJob final : public WorkSplit {
