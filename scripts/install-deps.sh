@@ -16,6 +16,8 @@ packages=(
   # and llvm-symbolizer for readable reports. Clang 16, not Debian's default 14: clang 14
   # cannot compile libstdc++ 12's std::source_location, which illum::Error uses.
   clang-16 libclang-rt-16-dev llvm-16
+  # Distributed render and bake (`mpirun -np N illum ...`, src/illum/distributed).
+  openmpi-bin libopenmpi-dev
 )
 # Optional, not installed here: `blender` (Debian's, 3.4) for `illum-bench converge`'s Cycles
 # peer (bench/peers/; its test has the label `peer`, outside CI), `linux-perf` for profiling.

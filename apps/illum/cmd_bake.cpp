@@ -21,6 +21,7 @@
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
 #include "illum/scene/load.h"
+#include "job_role.h"
 #include "option_checks.h"
 
 namespace illum::cli {
@@ -69,6 +70,9 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
          {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
           "--extras-rays", "--method", "--threshold", "--time"})
       if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
+    // The interreflected transfer is one shooting loop over every patch; the other modes
+    // are not split yet either.
+    refuse_with_several_ranks(true, "bake --kind prt", "its work is not split across ranks");
     PrtBakeRequest request{args.scene,      args.output, args.mode,    args.resolution,
                            args.spp,        args.bands,  args.threads, args.vq,
                            args.texel_size, args.seed,   args.params,  args.load};
@@ -81,7 +85,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   extras_options.obscurance_dmax = args.obscurance_dmax;
   extras_options.rays = args.extras_rays;
   extras_options.seed = args.seed;
-  extras_options.threads = args.threads;
+  const int threads = threads_for_this_rank(args.threads);
+  extras_options.threads = threads;
   atlas::check_lightmap_output(args.output);  // before the long work, not after
 
   const bool radiosity = args.method == "radiosity";
@@ -94,6 +99,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   if (!radiosity && (args.threshold_given || args.time_given))
     throw Error(fmt::format("{} applies to --method radiosity, not path",
                             args.threshold_given ? "--threshold" : "--time"));
+  refuse_with_several_ranks(radiosity, "bake --method radiosity",
+                            "progressive shooting is one sequential loop over every patch");
 
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"resolution", "--resolution"},
@@ -121,17 +128,17 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   bake::RadiosityBakeOptions radiosity_options;
   if (radiosity) {
     radiosity_options = bake::RadiosityBakeOptions::from_params(params);
-    radiosity_options.threads = args.threads;
+    radiosity_options.threads = threads;
     radiosity_options.time_budget_s = args.time_s;
     extras_options.dilate = radiosity_options.dilate;
   } else {
     bake_options = bake::LightmapBakeOptions::from_params(params);
-    bake_options.threads = args.threads;
+    bake_options.threads = threads;
     extras_options.dilate = bake_options.dilate;
   }
   params.check_all_used();
 
-  ThreadLimit limit(args.threads);
+  ThreadLimit limit(threads);
   Scene scene = load_scene(args.scene, args.load);
   const size_t scene_triangles = scene.triangle_count();
 
@@ -183,6 +190,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
           {{"distance", extras.ao_distance}, {"encoding", "world-space unit xyz in [-1, 1]"}});
   }
 
+  if (!writes_output()) return;  // rank 0 of the MPI job holds the maps
+  stop_if_interrupted();
   set.basis = bake::to_string(baked.basis);
   set.content = bake::to_string(baked.content);
   set.layers = std::move(baked.layers);
@@ -296,7 +305,8 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--seed", args->seed,
                   "random seed (same seed: same maps, whatever the thread count)")
       ->transform(number<uint64_t>(0, UINT64_MAX));
-  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
+  cmd->add_option("--threads", args->threads,
+                  "worker threads (0: all cores; under mpirun the node's cores over its ranks)")
       ->transform(number(0, 4096));
   cmd->add_option("--extras", args->extras,
                   "extra maps beside the layers, comma-separated: ao (cosine-weighted ambient "

@@ -12,6 +12,7 @@
 #include "illum/core/tonemap.h"
 #include "illum/render/integrator.h"
 #include "illum/scene/load.h"
+#include "job_role.h"
 #include "option_checks.h"
 
 namespace illum::cli {
@@ -56,6 +57,11 @@ std::string preview_path(const std::string& output) {
 
 void run_render(const RenderArgs& args) {
   check_output_path(args.output);
+  refuse_with_several_ranks(args.seconds > 0.0, fmt::format("--time {}", args.seconds),
+                            "the samples taken in the time would depend on the ranks; give "
+                            "--spp instead");
+  refuse_with_several_ranks(args.integrator == "sppm", "--integrator sppm",
+                            "its photon passes update every pixel in turn");
   const ImageFormat format = image_format_from_path(args.output);
   const bool hdr_output = format == ImageFormat::kExr || format == ImageFormat::kHdr;
   // A folder where an output file goes would only fail after the render.
@@ -73,7 +79,7 @@ void run_render(const RenderArgs& args) {
   options.height = args.height > 0 ? args.height : scene.settings.height;
   options.spp = args.spp > 0 ? args.spp : scene.settings.spp;
   options.seed = args.seed;
-  options.threads = args.threads;
+  options.threads = threads_for_this_rank(args.threads);
   options.time_budget_s = args.seconds;
 
   Params params = integrator_params(args);
@@ -81,13 +87,15 @@ void run_render(const RenderArgs& args) {
   params.check_all_used();  // a --param the integrator did not read is a typo
   log::release();           // the input is checked: the load's warnings may show now
 
-  ThreadLimit limit(args.threads);
+  ThreadLimit limit(options.threads);
   const auto t0 = std::chrono::steady_clock::now();
   const RayTracer tracer(scene);
   const auto t1 = std::chrono::steady_clock::now();
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   const Image image = integrator->render(tracer, camera, options);
   const auto t2 = std::chrono::steady_clock::now();
+  if (!writes_output()) return;  // rank 0 of the MPI job holds the image
+  stop_if_interrupted();
 
   if (hdr_output) {
     write_image(args.output, image);
@@ -134,7 +142,8 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--seed", args->seed,
                   "random seed (same seed: same image, whatever the thread count)")
       ->transform(number<uint64_t>(0, UINT64_MAX));
-  cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
+  cmd->add_option("--threads", args->threads,
+                  "worker threads (0: all cores; under mpirun the node's cores over its ranks)")
       ->transform(number(0, 4096));
   cmd->add_option("--time", args->seconds,
                   "time budget in seconds for progressive integrators (0: none)")

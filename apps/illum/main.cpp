@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "commands.h"
@@ -11,6 +12,8 @@
 #include "illum/core/interrupt.h"
 #include "illum/core/json_input.h"
 #include "illum/core/log.h"
+#include "illum/distributed/mpi_job.h"
+#include "job_role.h"
 #include "option_checks.h"
 
 namespace illum::cli {
@@ -77,6 +80,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "illum 0.1.0");
   std::string log_level = "warn";
+  std::unique_ptr<illum::distributed::MpiJob> job;  // under mpirun only
+  bool other_rank = false;  // a rank other than 0 of an MPI job: rank 0 says the warnings
   app.add_option("--log", log_level, "log level")
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
   app.parse_complete_callback([&] {
@@ -86,7 +91,10 @@ int main(int argc, char** argv) {
                         : log_level == "warn"  ? Level::kWarn
                         : log_level == "error" ? Level::kError
                                                : Level::kOff;
-    illum::log::set_level(level);
+    illum::log::set_level(other_rank && level < Level::kError ? Level::kError : level);
+    if (job && job->rank() == 0)
+      illum::log::info("distributed: {} ranks, {} on this node, {} threads per rank by default",
+                       job->ranks(), job->ranks_on_node(), job->threads_per_rank());
   });
 
   illum::cli::add_info_command(app);
@@ -100,43 +108,93 @@ int main(int argc, char** argv) {
   illum::cli::add_view_command(app);
 #endif
   illum::cli::refuse_empty_values(app);
+  // Only render and bake split their work across MPI ranks; the others would each write
+  // the same files at once.
+  for (CLI::App* command : app.get_subcommands({}))
+    if (command->get_name() != "render" && command->get_name() != "bake" &&
+        command->get_name() != "info")
+      command->preparse_callback([name = command->get_name()](size_t) {
+        illum::cli::refuse_with_several_ranks(true, "illum " + name,
+                                              "only render and bake are split across ranks");
+      });
 
   illum::install_interrupt_handler();
+  // Under mpirun (and only there: see distributed/README.md) the process is one rank of a
+  // job; render and bake split their work across the ranks, and rank 0 writes the output.
+  std::unique_ptr<illum::ScopedWorkSplit> installed;
+  if (illum::distributed::launched_by_mpi_launcher()) {
+    try {
+      job = std::make_unique<illum::distributed::MpiJob>(&argc, &argv);
+    } catch (const illum::Error& e) {
+      std::fprintf(stderr, "illum: error: %s\n", e.what());
+      return 2;
+    }
+    installed = std::make_unique<illum::ScopedWorkSplit>(job.get());
+    illum::install_termination_handler();
+  }
+  const bool root = !job || job->rank() == 0;
+  other_rank = !root;
   // Warnings wait until a command has checked its input and starts its work
   // (log::release() there): a run refused for bad input prints only its one error line.
   illum::log::hold();
+  int code = 0;
+  std::string message;  // the one line for stderr, if any
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    if (!root) return 0;
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    if (!root) return 0;
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
+    if (!root) return 0;
     return app.exit(e);
   } catch (const illum::Interrupted&) {
     illum::log::discard();
-    std::fprintf(stderr, "illum: interrupted; nothing was written\n");
-    return 130;
+    code = 130;
+    // Under mpirun a SIGTERM is the launcher ending the job: Ctrl-C given to mpirun, or
+    // another rank that died (mpirun names it).
+    if (root)
+      message = illum::interrupt_signal() == SIGTERM
+                    ? "illum: stopped by SIGTERM (under mpirun: Ctrl-C, or another rank "
+                      "failed); nothing was written"
+                    : "illum: interrupted; nothing was written";
   } catch (const CLI::ParseError& e) {
     illum::log::discard();
-    std::fprintf(stderr, "illum: error: %s (see 'illum --help')\n", e.what());
-    return 2;
+    code = 2;
+    message = fmt::format("illum: error: {} (see 'illum --help')", e.what());
   } catch (const illum::Error& e) {
     illum::log::discard();
-    std::fprintf(stderr, "illum: error: %s\n", e.what());
-    return 2;
+    code = 2;
+    message = fmt::format("illum: error: {}", e.what());
   } catch (const illum::InternalError& e) {
     illum::log::release();  // a bug: everything that led to it helps the report
-    std::fprintf(stderr, "illum: %s — please report this bug\n", e.what());
-    return 3;
+    code = 3;
+    message = fmt::format("illum: {} — please report this bug", e.what());
   } catch (const std::bad_alloc&) {
     illum::log::discard();
-    std::fprintf(stderr, "illum: error: out of memory\n");
-    return 2;
+    code = 2;
+    message = "illum: error: out of memory";
   } catch (const std::exception& e) {
     illum::log::release();
-    std::fprintf(stderr, "illum: error: %s\n", e.what());
-    return 1;
+    code = 1;
+    message = fmt::format("illum: error: {}", e.what());
+  }
+  if (code != 0) {
+    // Another rank's line says which rank it comes from; rank 0's reads as without mpirun.
+    if (!message.empty()) {
+      if (!root) message.replace(0, 7, fmt::format("illum: rank {}: ", job->rank()));
+      std::fprintf(stderr, "%s\n", message.c_str());
+    }
+    if (job && job->ranks() > 1) {
+      // mpirun's SIGTERM: the launcher is already ending every rank, and MPI_Finalize would
+      // wait for ranks that are gone.
+      if (illum::interrupt_signal() == SIGTERM) std::_Exit(code);
+      // The other ranks may be waiting for this one: end them all (mpirun exits with `code`).
+      job->abort(code);
+    }
+    return code;
   }
   illum::log::release();
   return 0;

@@ -14,6 +14,7 @@
 #include "illum/core/sampler.h"
 #include "illum/core/sampling.h"
 #include "illum/core/sh.h"
+#include "illum/core/work_split.h"
 #include "illum/render/light_sampler.h"
 #include "illum/render/path_radiance.h"
 
@@ -232,80 +233,92 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   std::atomic<int64_t> total_rays{0}, dropped{0};
   const double inv_spp = 1.0 / static_cast<double>(options.spp);
 
-  parallel_for(
-      count,
-      [&](int64_t begin, int64_t end) {
-        int64_t rays = 0, bad = 0, done = 0;
-        for (int64_t i = begin; i < end; ++i) {
-          if (interrupt_requested()) break;  // Ctrl-C: finish quickly, throw below
-          const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-          const TexelVertex v(s, options.basis);
-          // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's
-          // value depends only on (seed, x, y, spp), never on scheduling.
-          SobolSampler sampler(
-              hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
-          glm::dvec3 sum[kMaxLayers] = {};
-          double batch_sum[kMaxBatches] = {};
-          float w[kMaxLayers] = {};
-          for (int k = 0; k < options.spp; ++k) {
-            // Texels of a million samples take seconds: poll Ctrl-C inside them too.
-            if ((k & 1023) == 1023 && interrupt_requested()) break;
-            sampler.start_sample(static_cast<uint32_t>(k));
-            Color estimate[kMaxLayers] = {};
-            // The dimensions are drawn in the path tracer's order at a vertex: light
-            // choice, light point, lobe, direction, roulette.
-            const float u_light = sampler.next_1d();
-            const vec2 u_point = sampler.next_2d();
-            const std::optional<DirectLightSample> d = transport.sample_direct(
-                v.p, v.ng, u_light, u_point, skip_delta,
-                [&](const vec3& wi) { return v.valid(wi); },
-                [&](const vec3& wi) { return v.pdf(wi); }, &rays);
-            if (d) {
-              v.weights(d->wi, w);
-              const float scale = d->mis_weight / d->pdf;
-              for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
-            }
-            const float u_lobe = sampler.next_1d();
-            const vec2 u_dir = sampler.next_2d();
-            (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
-            const vec3 wi = v.sample(u_lobe, u_dir);
-            const float pdf = v.pdf(wi);
-            if (pdf > 0.0f) {
-              const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
-              const Color li =
-                  transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, &rays);
-              v.weights(wi, w);
-              for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
-            }
-            bool finite = true;
-            for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
-            if (!finite) {
-              ++bad;
-              continue;
-            }
-            double g = 0.0;
-            for (int j = 0; j < layers; ++j) {
-              sum[j] += glm::dvec3(estimate[j]);
-              g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
-            }
-            batch_sum[static_cast<int64_t>(k) * batches / options.spp] += g;
+  // One texel's result: what the root needs to fill the maps, and the counts.
+  struct TexelRecord {
+    Color layer[kMaxLayers];
+    float variance;
+    int64_t rays;
+    int64_t dropped;
+  };
+  // Texels are independent (one sampler each), so they are split across MPI ranks when the
+  // run has several (core/work_split.h) with the same values as in one process; the
+  // denoiser and dilation below read neighbours and run after every texel is in.
+  split_items<TexelRecord>(
+      count, 16,
+      [&](int64_t i) {
+        TexelRecord record{};
+        if (interrupt_requested()) return record;  // Ctrl-C: finish quickly, throw below
+        const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+        const TexelVertex v(s, options.basis);
+        // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's
+        // value depends only on (seed, x, y, spp), never on scheduling.
+        SobolSampler sampler(
+            hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
+        glm::dvec3 sum[kMaxLayers] = {};
+        double batch_sum[kMaxBatches] = {};
+        float w[kMaxLayers] = {};
+        for (int k = 0; k < options.spp; ++k) {
+          // Texels of a million samples take seconds: poll Ctrl-C inside them too.
+          if ((k & 1023) == 1023 && interrupt_requested()) break;
+          sampler.start_sample(static_cast<uint32_t>(k));
+          Color estimate[kMaxLayers] = {};
+          // The dimensions are drawn in the path tracer's order at a vertex: light
+          // choice, light point, lobe, direction, roulette.
+          const float u_light = sampler.next_1d();
+          const vec2 u_point = sampler.next_2d();
+          const std::optional<DirectLightSample> d = transport.sample_direct(
+              v.p, v.ng, u_light, u_point, skip_delta, [&](const vec3& wi) { return v.valid(wi); },
+              [&](const vec3& wi) { return v.pdf(wi); }, &record.rays);
+          if (d) {
+            v.weights(d->wi, w);
+            const float scale = d->mis_weight / d->pdf;
+            for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
           }
-          for (int j = 0; j < layers; ++j)
-            bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, Color(sum[j] * inv_spp));
-          bake.variance.pixel(s.x, s.y)[0] =
-              static_cast<float>(batch_variance(batch_sum, batches, options.spp));
-          ++done;
+          const float u_lobe = sampler.next_1d();
+          const vec2 u_dir = sampler.next_2d();
+          (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
+          const vec3 wi = v.sample(u_lobe, u_dir);
+          const float pdf = v.pdf(wi);
+          if (pdf > 0.0f) {
+            const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
+            const Color li =
+                transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, &record.rays);
+            v.weights(wi, w);
+            for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
+          }
+          bool finite = true;
+          for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
+          if (!finite) {
+            ++record.dropped;
+            continue;
+          }
+          double g = 0.0;
+          for (int j = 0; j < layers; ++j) {
+            sum[j] += glm::dvec3(estimate[j]);
+            g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
+          }
+          batch_sum[static_cast<int64_t>(k) * batches / options.spp] += g;
         }
-        total_rays += rays;
-        if (bad) dropped += bad;
-        progress.advance(done);
+        for (int j = 0; j < layers; ++j) record.layer[j] = Color(sum[j] * inv_spp);
+        record.variance = static_cast<float>(batch_variance(batch_sum, batches, options.spp));
+        return record;
       },
-      16);
+      [&](int64_t i, const TexelRecord& record) {
+        const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+        for (int j = 0; j < layers; ++j)
+          bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
+        bake.variance.pixel(s.x, s.y)[0] = record.variance;
+        total_rays += record.rays;
+        if (record.dropped) dropped += record.dropped;
+        progress.advance(1);
+      });
   if (interrupt_requested()) {
     progress.finish();
     throw Interrupted{};
   }
   progress.finish();
+  // Across ranks only the root received the texels; the others' maps are empty.
+  if (const WorkSplit* split = work_split(); split && !split->is_root()) return bake;
   if (dropped.load() > 0)
     log::warn("bake: {} non-finite samples were replaced by black", dropped.load());
 

@@ -13,6 +13,7 @@
 #include "illum/core/rng.h"
 #include "illum/core/sampler.h"
 #include "illum/core/sampling.h"
+#include "illum/core/work_split.h"
 #include "illum/render/material_eval.h"
 #include "illum/render/render_setup.h"
 
@@ -140,63 +141,73 @@ LightmapExtras bake_lightmap_extras(const Scene& scene, const RayTracer& tracer,
   std::atomic<int64_t> total_rays{0};
   const double inv_rays = 1.0 / static_cast<double>(options.rays);
 
-  parallel_for(
-      count,
-      [&](int64_t begin, int64_t end) {
-        int64_t rays = 0, done = 0;
-        for (int64_t i = begin; i < end; ++i) {
-          if (interrupt_requested()) break;
-          const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-          const Frame frame = Frame::from_normal(s.normal);
-          SobolSampler sampler(
-              hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
-          int64_t open = 0;
-          double obscurance = 0.0;
-          glm::dvec3 bleeding(0.0), bent(0.0);
-          for (int k = 0; k < options.rays; ++k) {
-            if ((k & 1023) == 1023 && interrupt_requested()) break;
-            sampler.start_sample(static_cast<uint32_t>(k));
-            const vec3 dir = frame.to_world(sample_cosine_hemisphere(sampler.next_2d()));
-            // Below the geometric surface: blocked by the texel's own surface at distance 0
-            // (ρ(0) = 0), as the `ao` integrator counts it.
-            if (glm::dot(dir, s.geometric_normal) <= 0.0f) continue;
-            const Ray ray{offset_ray_origin(s.position, s.geometric_normal, dir), dir, 0.0f, reach};
-            Hit hit;
-            const bool blocked = tracer.intersect(ray, &hit);
-            ++rays;
-            const float d = blocked ? hit.t : kInf;
-            if (d >= ao_distance) {
-              ++open;
-              bent += glm::dvec3(dir);
-            }
-            if (options.obscurance) {
-              const float rho = obscurance_transfer(d, d_max);
-              obscurance += rho;
-              Color albedo = r_ave;
-              if (d < d_max) {
-                const SurfaceInteraction si = tracer.interaction(ray, hit);
-                albedo = material_albedo(scene, interaction_material(scene, si), si.uv0);
-              }
-              bleeding += glm::dvec3(albedo) * double(rho);
-            }
+  // One texel's maps and its ray count. Texels are independent (one sampler each), so they
+  // are split across MPI ranks when the run has several (core/work_split.h).
+  struct TexelRecord {
+    Color ao, obscurance, obscurance_color, bent_normal;
+    int64_t rays;
+  };
+  split_items<TexelRecord>(
+      count, 16,
+      [&](int64_t i) {
+        TexelRecord record{};
+        if (interrupt_requested()) return record;
+        const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+        const Frame frame = Frame::from_normal(s.normal);
+        SobolSampler sampler(
+            hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
+        int64_t open = 0;
+        double obscurance = 0.0;
+        glm::dvec3 bleeding(0.0), bent(0.0);
+        for (int k = 0; k < options.rays; ++k) {
+          if ((k & 1023) == 1023 && interrupt_requested()) break;
+          sampler.start_sample(static_cast<uint32_t>(k));
+          const vec3 dir = frame.to_world(sample_cosine_hemisphere(sampler.next_2d()));
+          // Below the geometric surface: blocked by the texel's own surface at distance 0
+          // (ρ(0) = 0), as the `ao` integrator counts it.
+          if (glm::dot(dir, s.geometric_normal) <= 0.0f) continue;
+          const Ray ray{offset_ray_origin(s.position, s.geometric_normal, dir), dir, 0.0f, reach};
+          Hit hit;
+          const bool blocked = tracer.intersect(ray, &hit);
+          ++record.rays;
+          const float d = blocked ? hit.t : kInf;
+          if (d >= ao_distance) {
+            ++open;
+            bent += glm::dvec3(dir);
           }
-          if (options.ao) out.ao.set_rgb(s.x, s.y, Color(float(double(open) * inv_rays)));
           if (options.obscurance) {
-            out.obscurance.set_rgb(s.x, s.y, Color(float(obscurance * inv_rays)));
-            out.obscurance_color.set_rgb(s.x, s.y, Color(bleeding * inv_rays));
+            const float rho = obscurance_transfer(d, d_max);
+            obscurance += rho;
+            Color albedo = r_ave;
+            if (d < d_max) {
+              const SurfaceInteraction si = tracer.interaction(ray, hit);
+              albedo = material_albedo(scene, interaction_material(scene, si), si.uv0);
+            }
+            bleeding += glm::dvec3(albedo) * double(rho);
           }
-          if (options.bent_normal) {
-            const double len = glm::length(bent);
-            out.bent_normal.set_rgb(s.x, s.y, len > 0.0 ? Color(bent / len) : Color(s.normal));
-          }
-          ++done;
         }
-        total_rays += rays;
-        progress.advance(done);
+        record.ao = Color(float(double(open) * inv_rays));
+        record.obscurance = Color(float(obscurance * inv_rays));
+        record.obscurance_color = Color(bleeding * inv_rays);
+        const double len = glm::length(bent);
+        record.bent_normal = len > 0.0 ? Color(bent / len) : Color(s.normal);
+        return record;
       },
-      16);
+      [&](int64_t i, const TexelRecord& record) {
+        const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+        if (options.ao) out.ao.set_rgb(s.x, s.y, record.ao);
+        if (options.obscurance) {
+          out.obscurance.set_rgb(s.x, s.y, record.obscurance);
+          out.obscurance_color.set_rgb(s.x, s.y, record.obscurance_color);
+        }
+        if (options.bent_normal) out.bent_normal.set_rgb(s.x, s.y, record.bent_normal);
+        total_rays += record.rays;
+        progress.advance(1);
+      });
   progress.finish();
   if (interrupt_requested()) throw Interrupted{};
+  // Across ranks only the root received the texels; the others' maps are empty.
+  if (const WorkSplit* split = work_split(); split && !split->is_root()) return out;
 
   for (Image* map : {&out.ao, &out.obscurance, &out.obscurance_color, &out.bent_normal})
     if (map->width() > 0) atlas::dilate(*map, raster, options.dilate);

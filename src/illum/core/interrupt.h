@@ -5,7 +5,12 @@
 namespace illum {
 
 void install_interrupt_handler();
+// SIGTERM as well: how `mpirun` passes a Ctrl-C on to its ranks (then SIGKILL after a grace
+// period), so a rank stops like an interrupted process instead of dying mid-write.
+void install_termination_handler();
 bool interrupt_requested();
+// The signal that requested the interrupt (SIGINT, SIGTERM), 0 for request_interrupt().
+int interrupt_signal();
 void request_interrupt();  // for tests and programmatic cancellation
 void clear_interrupt();
 

@@ -1,0 +1,238 @@
+#include "illum/distributed/mpi_job.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/ranges.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include "illum/core/error.h"
+#include "illum/core/interrupt.h"
+#include "illum/core/log.h"
+
+namespace illum::distributed {
+
+namespace {
+
+// Three tags per phase (request, grant, result), cycling below MPI's guaranteed 32767.
+constexpr int kTagsPerPhase = 3;
+constexpr int kTagCycle = 30000;
+// A unit's records travel as one message, whose size MPI counts in int.
+constexpr int64_t kMaxUnitBytes = int64_t{1} << 30;
+constexpr int64_t kHeaderBytes = 2 * sizeof(int64_t);  // begin, end
+
+void check(int code, const char* call) {
+  if (code != MPI_SUCCESS) {
+    char text[MPI_MAX_ERROR_STRING];
+    int length = 0;
+    MPI_Error_string(code, text, &length);
+    throw Error(fmt::format("MPI: {} failed: {}", call, std::string(text, size_t(length))));
+  }
+}
+
+}  // namespace
+
+bool launched_by_mpi_launcher() {
+  return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr;
+}
+
+MpiJob::MpiJob(int* argc, char*** argv) {
+  int provided = MPI_THREAD_SINGLE;
+  check(MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+  if (provided < MPI_THREAD_FUNNELED) {
+    MPI_Finalize();
+    throw Error("MPI: the library does not support MPI_THREAD_FUNNELED");
+  }
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
+  MPI_Comm node = MPI_COMM_NULL;
+  check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node),
+        "MPI_Comm_split_type");
+  MPI_Comm_size(node, &ranks_on_node_);
+  MPI_Comm_free(&node);
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads_per_rank_ = std::max(1, cores / std::max(1, ranks_on_node_));
+  if (const char* text = std::getenv("ILLUM_TEST_ABORT_RANK")) test_abort_rank_ = std::atoi(text);
+}
+
+MpiJob::~MpiJob() {
+  MPI_Finalize();
+}
+
+void MpiJob::abort(int exit_code) {
+  MPI_Abort(MPI_COMM_WORLD, exit_code);
+  std::_Exit(exit_code);  // MPI_Abort does not return; this keeps [[noreturn]] honest
+}
+
+void MpiJob::run(int64_t count, size_t record_bytes, int grain, const UnitWork& work,
+                 const UnitKeep& keep) {
+  const int tag = (phase_ * kTagsPerPhase) % kTagCycle;
+  ++phase_;
+  // A unit: `grain` items for each of this rank's threads, as big as one message may be.
+  const int64_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
+  const int64_t fit = std::max<int64_t>(
+      1, (kMaxUnitBytes - kHeaderBytes) / static_cast<int64_t>(std::max<size_t>(1, record_bytes)));
+  const int64_t want = std::clamp<int64_t>(threads * std::max(1, grain), 1, fit);
+  // mpirun binds each rank to one core when it starts two or fewer (to a socket above):
+  // threads asked for beyond the cores a rank may use would only take turns on them.
+  const size_t asked =
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  if (rank_ == 0 && phase_ == 1 && asked > static_cast<size_t>(threads))
+    log::warn(
+        "distributed: a rank may use {} core(s) (mpirun binds ranks to cores), fewer than its {} "
+        "threads; start mpirun with --bind-to none (or --map-by slot:PE={}) to use them",
+        threads, asked, asked);
+  if (rank_ == 0)
+    serve(count, record_bytes, want, tag, work, keep);
+  else
+    ask(count, record_bytes, want, tag, work);
+}
+
+// Worker: ask for a unit, compute it, send its records, until the root says there is none.
+void MpiJob::ask(int64_t /*count*/, size_t record_bytes, int64_t want, int tag,
+                 const UnitWork& work) {
+  // Test-only (README.md): this rank dies before its first request, so the root can never
+  // finish the phase and the launcher must end the job.
+  if (test_abort_rank_ == rank_) std::abort();
+  std::vector<std::byte> message;
+  for (;;) {
+    check(MPI_Send(&want, 1, MPI_INT64_T, 0, tag, MPI_COMM_WORLD), "MPI_Send");
+    int64_t unit[2] = {0, 0};
+    check(MPI_Recv(unit, 2, MPI_INT64_T, 0, tag + 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+          "MPI_Recv");
+    if (unit[0] >= unit[1]) return;
+    const int64_t items = unit[1] - unit[0];
+    message.resize(static_cast<size_t>(kHeaderBytes + items * int64_t(record_bytes)));
+    std::memcpy(message.data(), unit, kHeaderBytes);
+    work(unit[0], unit[1], message.data() + kHeaderBytes);
+    if (interrupt_requested()) throw Interrupted{};
+    check(MPI_Send(message.data(), static_cast<int>(message.size()), MPI_BYTE, 0, tag + 2,
+                   MPI_COMM_WORLD),
+          "MPI_Send");
+  }
+}
+
+// Root: hand out units on request (guided: a unit is at most 1/(2·ranks) of what is left,
+// so the last units are small and no rank is left with a long tail), work on units on a
+// second thread, and keep every record.
+void MpiJob::serve(int64_t count, size_t record_bytes, int64_t want, int tag, const UnitWork& work,
+                   const UnitKeep& keep) {
+  std::mutex dispense_mutex, keep_mutex;
+  int64_t next = 0;
+  bool stop = false;
+  auto dispense = [&](int64_t asked) {
+    std::lock_guard<std::mutex> lock(dispense_mutex);
+    const int64_t left = stop ? 0 : count - next;
+    const int64_t n = std::min(left, std::clamp<int64_t>(left / (2 * int64_t(ranks_)), 1, asked));
+    const int64_t begin = next;
+    next += n;
+    return std::pair<int64_t, int64_t>{begin, begin + n};
+  };
+  std::atomic<int64_t> kept{0};
+  std::vector<int64_t> items_of_rank(static_cast<size_t>(ranks_), 0);  // for the log
+  std::exception_ptr local_error;
+  std::atomic<bool> local_done{false};
+  std::thread local([&] {
+    try {
+      std::vector<std::byte> records;
+      for (;;) {
+        const auto [begin, end] = dispense(want);
+        if (begin >= end) break;
+        records.resize(static_cast<size_t>((end - begin) * int64_t(record_bytes)));
+        work(begin, end, records.data());
+        if (interrupt_requested()) break;
+        {
+          std::lock_guard<std::mutex> lock(keep_mutex);
+          keep(begin, end, records.data());
+        }
+        kept += end - begin;
+        items_of_rank[0] += end - begin;  // this thread's alone
+      }
+    } catch (...) {
+      local_error = std::current_exception();
+    }
+    local_done = true;
+  });
+  // Whatever ends the loop below, the local thread must be stopped and joined first.
+  auto stop_local = [&] {
+    {
+      std::lock_guard<std::mutex> lock(dispense_mutex);
+      stop = true;
+    }
+    local.join();
+  };
+
+  try {
+    int waiting = ranks_ - 1;  // workers not yet told that there is no more work
+    std::vector<std::byte> message;
+    while (waiting > 0 || kept.load() < count) {
+      if (interrupt_requested()) throw Interrupted{};
+      if (local_done && local_error) break;
+      int flag = 0;
+      MPI_Status status;
+      check(MPI_Iprobe(MPI_ANY_SOURCE, tag, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe");
+      if (flag) {
+        int64_t asked = 0;
+        check(MPI_Recv(&asked, 1, MPI_INT64_T, status.MPI_SOURCE, tag, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+              "MPI_Recv");
+        const auto [begin, end] = dispense(std::max<int64_t>(1, asked));
+        const int64_t unit[2] = {begin, end};
+        check(MPI_Send(unit, 2, MPI_INT64_T, status.MPI_SOURCE, tag + 1, MPI_COMM_WORLD),
+              "MPI_Send");
+        if (begin >= end) --waiting;
+        continue;
+      }
+      check(MPI_Iprobe(MPI_ANY_SOURCE, tag + 2, MPI_COMM_WORLD, &flag, &status), "MPI_Iprobe");
+      if (flag) {
+        int bytes = 0;
+        MPI_Get_count(&status, MPI_BYTE, &bytes);
+        message.resize(static_cast<size_t>(bytes));
+        check(MPI_Recv(message.data(), bytes, MPI_BYTE, status.MPI_SOURCE, tag + 2, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+              "MPI_Recv");
+        int64_t unit[2];
+        std::memcpy(unit, message.data(), kHeaderBytes);
+        if (bytes != kHeaderBytes + (unit[1] - unit[0]) * int64_t(record_bytes))
+          throw InternalError(fmt::format("MPI: rank {} sent {} bytes for items [{}, {})",
+                                          status.MPI_SOURCE, bytes, unit[0], unit[1]));
+        {
+          std::lock_guard<std::mutex> lock(keep_mutex);
+          keep(unit[0], unit[1], message.data() + kHeaderBytes);
+        }
+        kept += unit[1] - unit[0];
+        items_of_rank[static_cast<size_t>(status.MPI_SOURCE)] += unit[1] - unit[0];
+        continue;
+      }
+      // Nothing to answer: sleep briefly rather than spin, so the root's own worker threads
+      // keep the core (a unit takes milliseconds; the answer is late by at most this).
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+  } catch (...) {
+    stop_local();
+    throw;
+  }
+  stop_local();
+  if (local_error) std::rethrow_exception(local_error);
+  if (interrupt_requested()) throw Interrupted{};
+  // Threads rank 0 could run: its arena (what the binding left it) under --threads's limit.
+  const size_t threads = std::min<size_t>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+      static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
+  log::info("distributed: {} items over {} ranks ({}), {} threads on rank 0", count, ranks_,
+            fmt::join(items_of_rank, " / "), threads);
+}
+
+}  // namespace illum::distributed
