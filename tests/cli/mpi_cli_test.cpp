@@ -205,6 +205,19 @@ TEST_F(MpiCli, WhatCannotBeSplitIsRefusedOnSeveralRanks) {
   EXPECT_NE(sppm.err.find("illum: error: --integrator sppm cannot run on 3 MPI ranks"),
             std::string::npos)
       << sppm.err;
+  // The sequential bakers: radiosity's and PRT's shooting loops run over every patch.
+  const Result radiosity =
+      mpirun(2, "bake cornell --method radiosity --resolution 16 -o " + (dir_ / "lm").string());
+  EXPECT_EQ(radiosity.exit_code, 2) << radiosity.err;
+  EXPECT_NE(radiosity.err.find("illum: error: bake --method radiosity cannot run on 2 MPI ranks"),
+            std::string::npos)
+      << radiosity.err;
+  const Result prt =
+      mpirun(2, "bake cornell --kind prt --resolution 16 -o " + (dir_ / "prt").string());
+  EXPECT_EQ(prt.exit_code, 2) << prt.err;
+  EXPECT_NE(prt.err.find("illum: error: bake --kind prt cannot run on 2 MPI ranks"),
+            std::string::npos)
+      << prt.err;
   EXPECT_TRUE(outputs().empty());
   // One rank is one process: nothing to refuse.
   const Result alone = mpirun(1, "render cornell --time 1" + small);

@@ -188,15 +188,7 @@ LightmapBakeOptions LightmapBakeOptions::from_params(const Params& params) {
   o.denoise = params.get<bool>("denoise", true);
   o.denoise_strength = params.get_float_in("denoise_strength", o.denoise_strength,
                                            kMinDenoiseStrength, kMaxDenoiseStrength);
-  if (params.has("seed")) {
-    const nlohmann::json& seed = params.raw().at("seed");
-    const bool non_negative =
-        seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0);
-    if (!non_negative)
-      throw Error(fmt::format("{} must be a non-negative integer", params.where("seed")));
-    o.seed = seed.get<uint64_t>();
-    params.mark_used("seed");
-  }
+  o.seed = params.get_seed("seed", o.seed);
   return o;
 }
 

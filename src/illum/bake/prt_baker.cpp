@@ -251,15 +251,7 @@ PrtBakeOptions PrtBakeOptions::from_params(const Params& params) {
       double(params.get_float_in("shoot_tolerance", float(o.shoot_tolerance), 1e-6f, 1.0f));
   o.max_rounds = params.get_int_in("max_rounds", o.max_rounds, 0, kMaxRounds);
   o.dilate = params.get_int_in("dilate", o.dilate, 0, kMaxDilate);
-  if (params.has("seed")) {
-    const nlohmann::json& seed = params.raw().at("seed");
-    const bool non_negative =
-        seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0);
-    if (!non_negative)
-      throw Error(fmt::format("{} must be a non-negative integer", params.where("seed")));
-    o.seed = seed.get<uint64_t>();
-    params.mark_used("seed");
-  }
+  o.seed = params.get_seed("seed", o.seed);
   return o;
 }
 

@@ -221,13 +221,7 @@ RadiosityBakeOptions RadiosityBakeOptions::from_params(const Params& params) {
   o.sky_rays = params.get<int>("sky_rays", o.sky_rays);
   o.reach_rays = params.get<int>("reach_rays", o.reach_rays);
   o.dilate = params.get<int>("dilate", o.dilate);
-  if (params.has("seed")) {
-    const nlohmann::json& seed = params.raw().at("seed");
-    if (!(seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0)))
-      throw Error(fmt::format("{} must be a non-negative integer", params.where("seed")));
-    o.seed = seed.get<uint64_t>();
-    params.mark_used("seed");
-  }
+  o.seed = params.get_seed("seed", o.seed);
   validate(o);
   return o;
 }

@@ -123,6 +123,14 @@ int Params::get_int_in(const std::string& key, int fallback, int lo, int hi) con
   return v;
 }
 
+uint64_t Params::get_seed(const std::string& key, uint64_t fallback) const {
+  if (!has(key)) return fallback;
+  const nlohmann::json& seed = at(key);
+  if (!(seed.is_number_unsigned() || (seed.is_number_integer() && seed.get<int64_t>() >= 0)))
+    throw Error(fmt::format("{} must be a non-negative integer", where(key)));
+  return seed.get<uint64_t>();
+}
+
 Params Params::child(const std::string& key) const {
   const auto& v = at(key);
   if (!v.is_object()) throw Error(fmt::format("{} must be an object", where(key)));

@@ -44,6 +44,8 @@ class Params {
   // A numeric value that must lie in [lo, hi].
   float get_float_in(const std::string& key, float fallback, float lo, float hi) const;
   int get_int_in(const std::string& key, int fallback, int lo, int hi) const;
+  // A random seed: any non-negative integer up to 2⁶⁴ − 1 (an Error otherwise).
+  uint64_t get_seed(const std::string& key, uint64_t fallback) const;
 
   // Nested objects and arrays of objects, with their own read tracking.
   Params child(const std::string& key) const;

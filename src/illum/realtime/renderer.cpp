@@ -260,8 +260,7 @@ struct Renderer::Impl {
   void render(const Camera& camera, bool counting = false) {
     // Lavapipe crashes on queries around depth-tested draws in frames that also build shadow
     // volumes on the GPU: no rasterized-triangle counts there.
-    timer.set_counting(counting,
-                       !(context.is_software() && tctx.shadow_method().masks_lights()));
+    timer.set_counting(counting, !(context.is_software() && tctx.shadow_method().masks_lights()));
     if (last_camera &&
         (last_camera->position != camera.position || last_camera->look_at != camera.look_at ||
          last_camera->up != camera.up || last_camera->fov_y != camera.fov_y))
