@@ -16,6 +16,7 @@
 
 #include "../render/render_test_scenes.h"
 #include "bake_test_scenes.h"
+#include "charted_cornell.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_extras.h"
@@ -31,21 +32,7 @@ namespace {
 using bake::LightmapExtras;
 using bake::LightmapExtrasOptions;
 
-// The built-in Cornell box charted at `resolution` texels, with its tracer and texel raster.
-struct ChartedCornell {
-  explicit ChartedCornell(int resolution) : scene(load_scene("cornell")) {
-    atlas::make_meshes_unique(scene);
-    atlas::AtlasOptions options;
-    options.resolution = resolution;
-    const atlas::Atlas a = atlas::build_atlas(scene, options);
-    atlas::apply_atlas(scene, a);
-    tracer = std::make_unique<RayTracer>(scene);
-    raster = atlas::rasterize_texels(scene, a.width, a.height);
-  }
-  Scene scene;
-  std::unique_ptr<RayTracer> tracer;
-  atlas::TexelRaster raster;
-};
+using test::ChartedCornell;
 
 constexpr double kZ = 5.0;
 constexpr double kNetFactor = 2.0;  // Owen's bound for a scrambled (0,2)-sequence, base 2

@@ -8,6 +8,7 @@
 
 #include "../render/render_test_scenes.h"
 #include "bake_test_scenes.h"
+#include "charted_cornell.h"
 #include "illum/atlas/atlas.h"
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_relight.h"
@@ -150,21 +151,7 @@ TEST(PrtBaker, ShadowedOpenPlaneMatchesTheClosedFormWithinItsError) {
   RecordProperty("worst_error_over_bound", std::to_string(worst));
 }
 
-// The built-in Cornell box (open at the front) charted at 32 texels.
-struct ChartedCornell {
-  ChartedCornell() : scene(load_scene("cornell")) {
-    atlas::make_meshes_unique(scene);
-    atlas::AtlasOptions options;
-    options.resolution = 32;
-    const atlas::Atlas a = atlas::build_atlas(scene, options);
-    atlas::apply_atlas(scene, a);
-    tracer = std::make_unique<RayTracer>(scene);
-    raster = atlas::rasterize_texels(scene, a.width, a.height);
-  }
-  Scene scene;
-  std::unique_ptr<RayTracer> tracer;
-  atlas::TexelRaster raster;
-};
+using test::ChartedCornell;
 
 // Under a constant sky (only c_0 ≠ 0) every ray's weight is Y00 > 0: blocking rays can only
 // lower the transfer and bounced light can only add to it, texel by texel and vertex by

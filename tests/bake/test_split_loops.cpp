@@ -14,6 +14,7 @@
 #include <random>
 #include <vector>
 
+#include "charted_cornell.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
@@ -112,21 +113,7 @@ TEST(SplitLoops, RenderRefusesATimeBudgetOnSeveralRanks) {
   EXPECT_EQ(split.runs, 0);
 }
 
-// The built-in Cornell box charted at 32 texels, with its tracer and texel raster.
-struct ChartedCornell {
-  ChartedCornell() : scene(load_scene("cornell")) {
-    atlas::make_meshes_unique(scene);
-    atlas::AtlasOptions options;
-    options.resolution = 32;
-    const atlas::Atlas a = atlas::build_atlas(scene, options);
-    atlas::apply_atlas(scene, a);
-    tracer = std::make_unique<RayTracer>(scene);
-    raster = atlas::rasterize_texels(scene, a.width, a.height);
-  }
-  Scene scene;
-  std::unique_ptr<RayTracer> tracer;
-  atlas::TexelRaster raster;
-};
+using test::ChartedCornell;
 
 TEST(SplitLoops, LightmapTexelsAndTheDenoiserGiveTheSameFloatsAsOneProcess) {
   const ChartedCornell cornell;
