@@ -18,6 +18,15 @@
 //   the counting frame also counted the triangles that left clipping (pipeline statistics),
 //   those are charged instead at the time of the cheapest rasterized triangle: a sub-pixel
 //   triangle set up and covering no sample (shaders/bound_setup.vert).
+// * mixed: where the triangles that left clipping were counted, a trivial pass draws that
+//   many set-up triangles covering no sample interleaved with full-target rectangles making
+//   the pass's passing layers, into each rendering's attachments (shaders/bound_mixed.vert):
+//   the cheapest triangles and the cheapest fragments of the same counts, together, so how
+//   the chip overlaps triangle setup with pixel work is measured, not assumed. (Regular grids
+//   of equal triangles were tried first: for the cascades' 282k triangles on 4 × 512² they
+//   took longer than the pass itself — the same counts, arranged more expensively than the
+//   scene's mix of tiny and large triangles — so they bound nothing.) The culled triangles and
+//   rejected fragments are added as above.
 // * memory: a buffer-to-buffer copy of --bandwidth-mib MiB gives the device's copy
 //   bandwidth (bytes read + written per second); a compute pass's bound is the bytes of the
 //   images and buffers it declares (each read once and written once) at that bandwidth.
@@ -26,6 +35,7 @@
 // dispatch-bound (launch and barrier cost, not their work). Arithmetic bounds are not
 // estimated: no pass declares its operation count.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -85,10 +95,55 @@ bool is_uint(VkFormat f) {
   return f == VK_FORMAT_R32_UINT || f == VK_FORMAT_R32G32_UINT || f == VK_FORMAT_R8_UINT;
 }
 
-// The trivial full-screen pass into `f`'s attachments, `repeats` times (after 2 untimed),
-// each its own rendering scope after a barrier as a frame's passes are; returns the times.
+// What a bound pass draws: `layers` full-screen triangles, or, with `setup_triangles` > 0, that
+// many triangles covering no sample interleaved with rectangles covering `mixed_layers`
+// full-target layers (shaders/bound_mixed.vert).
+struct BoundGeometry {
+  int layers = 1;
+  uint32_t setup_triangles = 0;
+  double mixed_layers = 0.0;
+};
+
+// The mixed pass's index buffer and its push constants (bound_mixed.vert's block).
+struct MixedMesh {
+  std::vector<uint32_t> indices;
+  struct {
+    int32_t width = 1, height = 1, setup_triangles = 0;
+    float partial = 1.0f;
+    int32_t rectangles = 0;
+  } push;
+};
+
+// The rectangles spread evenly among the setup triangles, as a scene's large and small
+// triangles mix, so the chip can overlap the setup of the one with the pixels of the other.
+MixedMesh make_mixed(uint32_t width, uint32_t height, uint32_t triangles, double layers) {
+  MixedMesh m;
+  const int full = static_cast<int>(std::floor(layers));
+  const double partial = layers - full;
+  m.push.width = static_cast<int32_t>(width);
+  m.push.height = static_cast<int32_t>(height);
+  m.push.setup_triangles = static_cast<int32_t>(triangles);
+  m.push.rectangles = full + (partial > 1e-6 ? 1 : 0);
+  m.push.partial = partial > 1e-6 ? static_cast<float>(partial) : 1.0f;
+  const uint32_t rectangles = static_cast<uint32_t>(m.push.rectangles);
+  m.indices.reserve(3 * (static_cast<size_t>(triangles) + 2 * rectangles));
+  uint32_t next = 0;  // rectangle
+  for (uint32_t t = 0; t <= triangles; ++t) {
+    while (next < rectangles &&
+           static_cast<uint64_t>(next + 1) * triangles / (rectangles + 1) <= t) {
+      const uint32_t base = 3 * triangles + 4 * next++;
+      m.indices.insert(m.indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});
+    }
+    if (t < triangles) m.indices.insert(m.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  return m;
+}
+
+// The trivial pass into `f`'s attachments, `repeats` times (after 2 untimed), each its own
+// rendering scope after a barrier as a frame's passes are; returns the times.
 std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int repeats,
-                              int layers) {
+                              const BoundGeometry& geometry) {
+  const bool mixed = geometry.setup_triangles > 0;
   std::vector<gpu::GpuImage> colors;
   for (VkFormat c : f.colors) {
     gpu::ImageDesc d;
@@ -121,9 +176,17 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   if (uint_target && f.colors.size() > 1)
     throw Error(fmt::format("fill {}: more than one integer target", f.key()));
 
-  gpu::PipelineLayout layout(ctx, {}, 0);
+  MixedMesh mesh;
+  gpu::Buffer index_buffer;
+  if (mixed) {
+    mesh = make_mixed(f.width, f.height, geometry.setup_triangles, geometry.mixed_layers);
+    index_buffer =
+        gpu::make_device_buffer(ctx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t),
+                                VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+  }
+  gpu::PipelineLayout layout(ctx, {}, mixed ? sizeof(mesh.push) : 0);
   gpu::GraphicsPipelineDesc p;
-  p.vertex_shader = "bound_fill.vert";
+  p.vertex_shader = mixed ? "bound_mixed.vert" : "bound_fill.vert";
   p.fragment_shader = f.colors.empty() ? ""
                       : uint_target    ? "bound_fill_uint.frag"
                                        : fmt::format("bound_fill{}.frag", f.colors.size());
@@ -159,10 +222,21 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   const VkPipelineStageFlags2 color_stage = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
   const VkAccessFlags2 color_access =
       VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  // The mixed pass checks what it drew: an occlusion query around its first (untimed)
+  // repetition must count exactly its layers' samples (the set-up triangles cover none).
+  VkQueryPool samples = VK_NULL_HANDLE;
+  if (mixed) {
+    VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_OCCLUSION;
+    qi.queryCount = 1;
+    if (vkCreateQueryPool(ctx.device(), &qi, nullptr, &samples) != VK_SUCCESS)
+      throw Error("illum-bench raster: cannot create an occlusion query pool");
+  }
   const int total = repeats + 2;
   gpu::GpuTimer timer(ctx, static_cast<uint32_t>(total));
   ctx.immediate([&](VkCommandBuffer cmd) {
     timer.reset(cmd);
+    if (samples) vkCmdResetQueryPool(cmd, samples, 0, 1);
     for (int r = 0; r < total; ++r) {
       // Each pass waits for the last, as a frame's passes writing one target do.
       for (gpu::GpuImage& c : colors)
@@ -202,8 +276,17 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
       vkCmdSetScissor(cmd, 0, 1, &scissor);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
       if (stencil_mode) vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
-      // `layers` full-screen triangles at one depth: each passes (LESS_OR_EQUAL) or fails alike.
-      for (int l = 0; l < layers; ++l) vkCmdDraw(cmd, 3, 1, 0, 0);
+      // Everything at one depth: each layer passes (LESS_OR_EQUAL) or fails alike.
+      if (mixed) {
+        vkCmdPushConstants(cmd, layout.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(mesh.push),
+                           &mesh.push);
+        vkCmdBindIndexBuffer(cmd, index_buffer.handle(), 0, VK_INDEX_TYPE_UINT32);
+        if (r == 0) vkCmdBeginQuery(cmd, samples, 0, VK_QUERY_CONTROL_PRECISE_BIT);
+        vkCmdDrawIndexed(cmd, static_cast<uint32_t>(mesh.indices.size()), 1, 0, 0, 0);
+        if (r == 0) vkCmdEndQuery(cmd, samples, 0);
+      } else {
+        for (int l = 0; l < geometry.layers; ++l) vkCmdDraw(cmd, 3, 1, 0, 0);
+      }
       vkCmdEndRendering(cmd);
       timer.end(cmd, scope);
       // Tell the tracked state what the pass did, so the next barrier starts from it.
@@ -212,6 +295,23 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
       if (depth) depth.assume_state(ds, ds_stages, ds_access);
     }
   });
+  if (samples) {
+    uint64_t counted = 0;
+    const VkResult got =
+        vkGetQueryPoolResults(ctx.device(), samples, 0, 1, sizeof(counted), &counted,
+                              sizeof(counted), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    vkDestroyQueryPool(ctx.device(), samples, nullptr);
+    // Whole layers, and the rows of the partial one whose pixel centres it covers (one row
+    // of slack for how the edge falls on them).
+    const double full = std::floor(geometry.mixed_layers);
+    const double rows = std::ceil((geometry.mixed_layers - full) * f.height - 0.5 - 1e-9);
+    const double want = (full * f.height + std::max(0.0, rows)) * f.width;
+    if (got != VK_SUCCESS || std::abs(static_cast<double>(counted) - want) > f.width)
+      throw Error(
+          fmt::format("illum-bench raster: the mixed pass for {} covered {} samples, "
+                      "not the {} of {:.4f} layers",
+                      f.key(), counted, want, geometry.mixed_layers));
+  }
   std::vector<double> ms;
   const std::vector<gpu::PassTime> times = timer.resolve();
   for (size_t i = 2; i < times.size(); ++i) ms.push_back(times[i].ms);
@@ -320,6 +420,7 @@ struct Row {
   double median_ms = 0.0;
   bool has_work = false;
   double raster_ms = 0.0, memory_ms = 0.0, geometry_ms = 0.0;  // own work's bounds
+  double mixed_ms = 0.0;
   std::vector<std::string> details;
 };
 
@@ -406,8 +507,8 @@ int run_raster(SuiteArgs args) {
   for (const auto& [key, fill] : fills) {
     // The per-layer cost: the slope between 1 and 8 stacked full-screen layers in one pass,
     // so a rendering's fixed cost (clears, setup) is not charged per fragment.
-    const std::vector<double> one = time_fill(ctx, fill, repeats, 1);
-    const std::vector<double> eight = time_fill(ctx, fill, repeats, 8);
+    const std::vector<double> one = time_fill(ctx, fill, repeats, {1});
+    const std::vector<double> eight = time_fill(ctx, fill, repeats, {8});
     const double m = std::max(0.0, (median(eight) - median(one)) / 7.0);
     bound_ms[key] = m;
     // The rest of one layer's time is the rendering's fixed cost for this attachment set
@@ -422,6 +523,57 @@ int run_raster(SuiteArgs args) {
                       {"eight_layer_runs_ms", eight},
                       {"gpixel_per_s", gpix}});
   }
+
+  // The mixed bound of a pass: its rasterized triangles and its passing fragments drawn
+  // together by a trivial pass (make_mixed) into each rendering's attachments, so the chip's
+  // own overlap of setup and fill is measured instead of assumed (the larger of the two is
+  // below what the chip can do when both are large; their sum above it). The triangles are
+  // shared among the renderings in proportion to their passing layers; rejected fragments
+  // are charged as in the raster bound.
+  std::map<std::string, double> mixed_cache;
+  nlohmann::json mixed_bounds = nlohmann::json::array();
+  auto mixed_bound = [&](const nlohmann::json& fills_json, const std::string& file, double raster) {
+    std::map<std::string, std::pair<int, double>> renderings;  // key: (renderings, layers)
+    double passing = 0.0, rejected_ms = 0.0;
+    for (const auto& f : fills_json) {
+      const gpu::RasterFill fill = fill_from_json(f, file);
+      const double count = f.at("count").get<double>();
+      if (rejected(fill)) {
+        rejected_ms += count * bound_ms.at(fill.key());
+        continue;
+      }
+      auto& [n, layers] = renderings[fill.key()];
+      ++n;
+      layers += count;
+      passing += count;
+    }
+    double total = rejected_ms;
+    for (const auto& [key, rendering] : renderings) {
+      const auto [n, layers] = rendering;
+      if (passing <= 0.0 || layers <= 0.0) {
+        total += n * fixed_ms.at(key);
+        continue;
+      }
+      const double each_layers = layers / n;
+      const uint32_t each_triangles = static_cast<uint32_t>(
+          std::clamp(std::round(raster * layers / passing / n), 1.0, 16777216.0));
+      const std::string id =
+          fmt::format("{} {} triangles {:.4f} layers", key, each_triangles, each_layers);
+      auto it = mixed_cache.find(id);
+      if (it == mixed_cache.end()) {
+        const std::vector<double> runs =
+            time_fill(ctx, fills.at(key), repeats, {1, each_triangles, each_layers});
+        it = mixed_cache.emplace(id, median(runs)).first;
+        mixed_bounds.push_back({{"key", key},
+                                {"triangles", each_triangles},
+                                {"layers", each_layers},
+                                {"runs_ms", runs},
+                                {"ms", it->second}});
+      }
+      total += n * it->second;
+    }
+    return total;
+  };
 
   nlohmann::json out_frames = nlohmann::json::array();
   for (size_t i = 0; i < frames.size(); ++i) {
@@ -463,6 +615,11 @@ int run_raster(SuiteArgs args) {
           const double raster = std::min(triangles, p["work"].value("rasterized_triangles", 0.0));
           r.geometry_ms =
               (triangles - raster) * triangle_ms + raster * std::max(setup_ms, triangle_ms);
+          if (raster >= 1.0) {
+            r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster) +
+                         (triangles - raster) * triangle_ms;
+            r.details.push_back(fmt::format("mixed {:.4f}", r.mixed_ms));
+          }
           r.details.push_back(
               p["work"].contains("rasterized_triangles")
                   ? fmt::format("{:.4g} triangles ({:.4g} rasterized)", triangles, raster)
@@ -494,15 +651,19 @@ int run_raster(SuiteArgs args) {
       } else if (r.median_ms < kDispatchBoundMs) {
         kind = "dispatch";
       } else if (r.has_work) {
-        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms});
-        kind = bound == r.raster_ms ? "raster" : bound == r.geometry_ms ? "geometry" : "memory";
+        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms, r.mixed_ms});
+        kind = bound == r.raster_ms     ? "raster"
+               : bound == r.geometry_ms ? "geometry"
+               : bound == r.mixed_ms    ? "mixed"
+                                        : "memory";
         if (bound <= 0.0) kind = "none";  // rejected fragments only (listed, not bounded)
       } else {
         // A scope of nested steps only (per-light scopes): the sum of theirs.
         bool any = false;
         for (size_t c = k + 1; c < rows.size() && rows[c].depth > r.depth; ++c)
           if (rows[c].depth == r.depth + 1 && rows[c].has_work) {
-            bound += std::max({rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms});
+            bound += std::max(
+                {rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms, rows[c].mixed_ms});
             any = true;
           }
         if (any) {
@@ -547,6 +708,7 @@ int run_raster(SuiteArgs args) {
     j["dispatch_bound_ms"] = kDispatchBoundMs;
     j["copy"] = {{"mib", bandwidth_mib}, {"gb_per_s", bytes_per_ms * 1e-6}, {"runs_ms", copy_runs}};
     j["raster_bounds"] = bounds;
+    j["mixed_bounds"] = mixed_bounds;
     j["triangles"] = {{"count", measured_triangles},
                       {"ms_per_triangle", triangle_ms},
                       {"runs_ms", triangle_runs}};
