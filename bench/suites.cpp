@@ -28,6 +28,8 @@ std::span<const Suite> suites() {
        &run_lightmap_extras},
       {"radiosity", "radiosity light-maps: time to equal error against the path-traced baker",
        &run_radiosity},
+      {"prt", "PRT transfer bake time, VQ ratio and error, texel relighting vs bandwidth",
+       &run_prt},
       {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
        &run_photon_defaults},
       {"converge", "equal-noise efficiency 1/(variance x time), illum vs Blender Cycles",
