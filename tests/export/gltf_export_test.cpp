@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -229,16 +230,26 @@ TEST_F(GltfExport, RnmAndShFoldersExportTheIrradianceAtTheNormal) {
   export_set();
   const glm::vec4 y = sh::evaluate_l1(glm::vec3(0.0f, 0.0f, 1.0f));
   Image irradiance = set_.layers[0];
+  std::vector<float> magnitude(irradiance.data().size());  // Σ |term|, for the bound below
   for (size_t k = 0; k < irradiance.data().size(); ++k) {
     float e = y.x * set_.layers[0].data()[k];
-    for (int i = 1; i < 4; ++i) e += 2.0f / 3.0f * y[i] * set_.layers[i].data()[k];
+    magnitude[k] = std::abs(e);
+    for (int i = 1; i < 4; ++i) {
+      const float term = 2.0f / 3.0f * y[i] * set_.layers[i].data()[k];
+      e += term;
+      magnitude[k] += std::abs(term);
+    }
     irradiance.data()[k] = std::max(e, 0.0f);
   }
   const Image exr = read_image((dir_ / "out.lightmap.exr").string(), false);
   int clamped = 0;
   for (size_t k = 0; k < exr.data().size(); ++k) {
     clamped += irradiance.data()[k] == 0.0f;
-    EXPECT_NEAR(exr.data()[k], irradiance.data()[k], 1e-6f * (1.0f + irradiance.data()[k])) << k;
+    // Two float evaluations of the same 4-term sum (other constants and order): each rounds
+    // its products and sums by ε/2 of at most Σ|term| — 8 roundings between them.
+    EXPECT_NEAR(exr.data()[k], irradiance.data()[k],
+                8 * 0.5f * std::numeric_limits<float>::epsilon() * magnitude[k])
+        << k;
   }
   EXPECT_GT(clamped, 0);  // the clamp at 0 is exercised
   glb = read_glb(dir_ / "out.glb");
@@ -305,26 +316,33 @@ TEST_F(GltfExport, LightsCameraAndTransformsRoundTrip) {
   ASSERT_EQ(back.instances.size(), 1u);
   EXPECT_EQ(back.instances[0].transform, instance.transform);
   ASSERT_EQ(back.lights.size(), 3u);
-  // Float rounding of a normalised colour times its largest channel, and of a rotation.
-  constexpr float kTol = 1e-5f;
+  // Analytic bounds in float roundings (each operation rounds by at most ε/2 relative,
+  // ε = 2⁻²³): a colour is written as value/largest and read back × largest (2 roundings per
+  // channel, then the double → float of the JSON: 3), positions are copied, a direction goes
+  // through a normalise, two cross products and the loader's matrix product and normalise
+  // (under 8 roundings of a unit vector); the camera's position goes through a 4×4 inverse
+  // (cofactors of 3×3 products: allow 64 roundings of the largest coordinate).
+  constexpr float kEps = std::numeric_limits<float>::epsilon();
+  const auto near = [&](const vec3& got, const vec3& want, float roundings) {
+    return glm::length(got - want) <= roundings * 0.5f * kEps * std::max(1.0f, glm::length(want));
+  };
   for (size_t i = 0; i < 3; ++i) {
     const Light &got = back.lights[i], &want = scene.lights[i];
     EXPECT_EQ(got.type, want.type) << i;
-    EXPECT_LE(glm::length(got.intensity - want.intensity), kTol * 5) << i;
-    EXPECT_LE(glm::length(got.irradiance - want.irradiance), kTol * 2) << i;
+    EXPECT_TRUE(near(got.intensity, want.intensity, 3 * 1.8f)) << i;  // |Δ| over 3 channels
+    EXPECT_TRUE(near(got.irradiance, want.irradiance, 3 * 1.8f)) << i;
     if (want.type != LightType::kDirectional) {
-      EXPECT_LE(glm::length(got.position - want.position), kTol * 4) << i;
+      EXPECT_EQ(got.position, want.position) << i;
     }
     if (want.type != LightType::kPoint) {
-      EXPECT_LE(glm::length(got.direction - want.direction), kTol) << i;
+      EXPECT_TRUE(near(got.direction, want.direction, 8)) << i;
     }
   }
-  EXPECT_NEAR(back.lights[1].cone_half_angle, 0.4f, 1e-6f);
+  EXPECT_EQ(back.lights[1].cone_half_angle, 0.4f);
   ASSERT_TRUE(back.camera.has_value());
-  EXPECT_LE(glm::length(back.camera->position - camera.position), kTol * 4);
-  EXPECT_LE(glm::length(glm::normalize(back.camera->look_at - back.camera->position) -
-                        glm::normalize(camera.look_at - camera.position)),
-            kTol);
+  EXPECT_TRUE(near(back.camera->position, camera.position, 64));
+  EXPECT_TRUE(near(glm::normalize(back.camera->look_at - back.camera->position),
+                   glm::normalize(camera.look_at - camera.position), 8));
   EXPECT_FLOAT_EQ(back.camera->fov_y, 0.7f);
 }
 
