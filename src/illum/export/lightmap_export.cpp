@@ -101,8 +101,7 @@ std::vector<uint8_t> encode_rgbm_image(const Image& image, float range) {
   std::vector<uint8_t> bytes(image.pixel_count() * 4);
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x) {
-      const Color c = glm::max(image.rgb(x, y), Color(0.0f));
-      const std::array<uint8_t, 4> rgbm = encode_rgbm(c, range);
+      const std::array<uint8_t, 4> rgbm = encode_rgbm(image.rgb(x, y), range);  // clamps < 0
       std::copy(rgbm.begin(), rgbm.end(),
                 bytes.begin() + 4 * (static_cast<size_t>(y) * image.width() + x));
     }
