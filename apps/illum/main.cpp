@@ -101,6 +101,7 @@ int main(int argc, char** argv) {
   illum::cli::add_render_command(app);
   illum::cli::add_bake_command(app);
   illum::cli::add_relight_command(app);
+  illum::cli::add_export_command(app);
 #ifdef ILLUM_HAVE_FRAME_COMMAND
   illum::cli::add_frame_command(app);
 #endif

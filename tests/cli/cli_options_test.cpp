@@ -107,6 +107,8 @@ class CliOptionsTest : public CliTest {
           {"--height", "8"},
           {"--spp", "1"},
           {"-o", out}}},
+        {"export",
+         {{"--lightmap", (dir_ / "lightmap").string()}, {"-o", (dir_ / "out.glb").string()}}},
     };
     const auto it = base.find(sub);
     if (it == base.end()) {
