@@ -28,6 +28,7 @@ std::span<const Suite> suites() {
        &run_lightmap_extras},
       {"radiosity", "radiosity light-maps: time to equal error against the path-traced baker",
        &run_radiosity},
+      {"probes", "irradiance-probe bake time per 1000 probes on cornell and sibenik", &run_probes},
       {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
        &run_photon_defaults},
       {"converge", "equal-noise efficiency 1/(variance x time), illum vs Blender Cycles",

@@ -69,6 +69,8 @@ void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
        {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
         "--extras-rays", "--method", "--threshold", "--time", "--resolution", "--texel-size"})
     if (cmd.count(option)) throw Error(fmt::format("{} does not apply to --kind probes", option));
+  if (cmd.count("--spacing") && !(args.spacing > 0.0f))
+    throw Error(fmt::format("--spacing {}: must be > 0 metres", args.spacing));
   bake::check_probe_output(args.output);  // before the long work, not after
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"spacing", "--spacing"}, {"spp", "--spp"}, {"seed", "--seed"}});
@@ -401,7 +403,7 @@ void add_bake_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--spacing", args->spacing,
                   "probes: metres between probes (default: the scene's longest side / 16)")
-      ->transform(number(FLT_MIN, FLT_MAX));
+      ->transform(number(0.0f, FLT_MAX));
   cmd->add_option("--bands", args->bands, "prt: SH bands (bands² coefficients)")
       ->transform(number(bake::kMinPrtBands, bake::kMaxPrtBands))
       ->capture_default_str();
