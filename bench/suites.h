@@ -36,9 +36,9 @@ int run_caustics(SuiteArgs args);  // bench_caustics.cpp: caustics, path vs phot
 int run_path(SuiteArgs args);      // bench_path.cpp: path-tracing samples/s and rays/s
 int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs path tracer, denoiser
 int run_lightmap_extras(SuiteArgs args);  // bench_lightmap_extras.cpp: AO/obscurance maps
-int run_radiosity(SuiteArgs args);
-int run_prt(SuiteArgs args);  // bench_prt.cpp: PRT bake time, VQ, texel relighting vs bandwidth  //
-                              // bench_radiosity.cpp: radiosity vs path bake, equal error
+int run_radiosity(SuiteArgs args);  // bench_radiosity.cpp: radiosity vs path bake, equal error
+int run_prt(SuiteArgs args);     // bench_prt.cpp: PRT bake time, VQ, texel relighting vs bandwidth
+int run_probes(SuiteArgs args);  // bench_probes.cpp: probe bake time per 1000 probes
 // bench_photon_defaults.cpp: the photon integrator's defaults vs the path tracer
 int run_photon_defaults(SuiteArgs args);
 // bench_converge.cpp: equal-noise efficiency, illum vs Blender Cycles (peer)

@@ -14,6 +14,8 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
+#include "illum/bake/probe_baker.h"
+#include "illum/bake/probe_file.h"
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_vq.h"
 #include "illum/bake/radiosity_baker.h"
@@ -49,7 +51,8 @@ struct BakeArgs {
   int extras_rays = bake::kDefaultExtraRays;
   std::vector<std::string> params;  // atlas and baker keys
   LoadOptions load;
-  std::string kind = "lightmap";  // lightmap | prt (cmd_prt.cpp)
+  std::string kind = "lightmap";  // lightmap | prt (cmd_prt.cpp) | probes (run_probe_bake)
+  float spacing = 0.0f;           // probes only; 0: not given (the grid's default)
   int bands = 4;                  // prt only
   int vq = 0;                     // prt only
   std::string mode = "shadowed";  // prt only
@@ -59,12 +62,78 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// `--kind probes`: an irradiance-probe grid (bake/probe_baker.h) into the folder of
+// bake/probe_file.h. Instances marked dynamic are left out of the traced and hashed geometry.
+void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
+  for (const char* option :
+       {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
+        "--extras-rays", "--method", "--threshold", "--time", "--resolution", "--texel-size"})
+    if (cmd.count(option)) throw Error(fmt::format("{} does not apply to --kind probes", option));
+  if (cmd.count("--spacing") && !(args.spacing > 0.0f))
+    throw Error(fmt::format("--spacing {}: must be > 0 metres", args.spacing));
+  bake::check_probe_output(args.output);  // before the long work, not after
+  nlohmann::json j = key_values_to_json(args.params);
+  refuse_params_of_options(j, {{"spacing", "--spacing"}, {"spp", "--spp"}, {"seed", "--seed"}});
+  j["spacing"] = args.spacing;
+  j["spp"] = args.spp;
+  j["seed"] = args.seed;
+  const Params params(j, "--param");
+  bake::ProbeBakeOptions options = bake::ProbeBakeOptions::from_params(params);
+  params.check_all_used();
+  const int threads = threads_for_this_rank(args.threads);
+  options.threads = threads;
+
+  ThreadLimit limit(threads);
+  const Scene loaded = load_scene(args.scene, args.load);
+  const Scene scene = bake::static_part(loaded);
+  const RayTracer tracer(scene);
+  try {  // the grid's size first: a refused grid names the option
+    bake::make_probe_grid(tracer.bounds(), options.spacing);
+  } catch (const Error& e) {
+    throw Error(fmt::format("--spacing {}: {}", args.spacing, e.what()));
+  }
+  log::release();
+  const bake::ProbeBake baked = bake::bake_probes(scene, tracer, options);
+  if (!writes_output()) return;  // rank 0 of the MPI job holds the probes
+  stop_if_interrupted();
+  bake::ProbeSet set;
+  set.grid = baked.grid;
+  set.probes = baked.probes;
+  set.backface_threshold = options.backface_threshold;
+  set.scene = loaded.name;
+  set.scene_triangles = scene.triangle_count();
+  set.scene_hash = geometry_hash_hex(scene);  // the static part, as check_probe_scene
+  set.bake = {{"spp", options.spp},
+              {"max_bounces", options.max_bounces},
+              {"seed", options.seed},
+              {"rays", baked.stats.rays},
+              {"invalid", baked.stats.invalid},
+              {"bake_seconds", baked.stats.seconds}};
+  bake::save_probe_set(args.output, set);
+  const glm::ivec3 n = set.grid.size;
+  std::fprintf(
+      stderr,
+      "illum: bake %s, probes: %dx%dx%d grid, spacing %.4g m, %lld probes (%lld "
+      "invalid), %d spp in %.2fs (%.2f Mrays/s) -> %s\n",
+      loaded.name.c_str(), n.x, n.y, n.z, double(set.grid.spacing),
+      static_cast<long long>(set.grid.count()), static_cast<long long>(baked.stats.invalid),
+      options.spp, baked.stats.seconds,
+      baked.stats.seconds > 0 ? double(baked.stats.rays) / baked.stats.seconds * 1e-6 : 0.0,
+      args.output.c_str());
+}
+
 void run_bake(const BakeArgs& args, const CLI::App& cmd) {
-  if (args.kind != "lightmap" && args.kind != "prt")
-    throw Error(fmt::format("--kind '{}': lightmap or prt", args.kind));
+  if (args.kind != "lightmap" && args.kind != "prt" && args.kind != "probes")
+    throw Error(fmt::format("--kind '{}': lightmap, prt or probes", args.kind));
   for (const char* option : {"--bands", "--mode", "--vq"})
     if (args.kind != "prt" && cmd.count(option))
       throw Error(fmt::format("{} applies to --kind prt only", option));
+  if (args.kind != "probes" && cmd.count("--spacing"))
+    throw Error("--spacing applies to --kind probes only");
+  if (args.kind == "probes") {
+    run_probe_bake(args, cmd);
+    return;
+  }
   if (args.kind == "prt") {
     for (const char* option :
          {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
@@ -296,7 +365,8 @@ void add_bake_command(CLI::App& app) {
                   "metres per texel (0: the finest that fits the resolution)")
       ->transform(number(0.0f, FLT_MAX))
       ->capture_default_str();
-  cmd->add_option("--spp", args->spp, "hemisphere samples per texel")
+  cmd->add_option("--spp", args->spp,
+                  "hemisphere samples per texel (probes: sphere samples per probe)")
       ->transform(number(1, INT_MAX))
       ->capture_default_str();
   cmd->add_option("--bounces", args->max_bounces, "path vertices after the texel")
@@ -328,8 +398,12 @@ void add_bake_command(CLI::App& app) {
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
                   "denoise=true|false, denoise_strength)");
   cmd->add_option("--kind", args->kind,
-                  "lightmap (path-traced light-map) or prt (SH transfer, docs/prt.md)")
+                  "lightmap (path-traced light-map), prt (SH transfer, docs/prt.md) or probes "
+                  "(irradiance probe grid, docs/probes.md)")
       ->capture_default_str();
+  cmd->add_option("--spacing", args->spacing,
+                  "probes: metres between probes (default: the scene's longest side / 16)")
+      ->transform(number(0.0f, FLT_MAX));
   cmd->add_option("--bands", args->bands, "prt: SH bands (bands² coefficients)")
       ->transform(number(bake::kMinPrtBands, bake::kMaxPrtBands))
       ->capture_default_str();

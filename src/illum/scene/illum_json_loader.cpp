@@ -166,6 +166,7 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
       // only this scene file as finalize_scene would.
       validate_scene_values(part, file);
       const mat4 transform = read_transform(entry);
+      const bool dynamic = entry.get<bool>("dynamic", false);
 
       // Drop hidden objects (by instance or mesh name); an unknown name is a typo.
       if (entry.has("hide")) {
@@ -201,6 +202,7 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
         const int original = inst.mesh;
         inst.transform = transform * inst.transform;
         inst.mesh = mesh_map[original];
+        inst.dynamic = dynamic;
         if (uses[original] == 1) {
           transform_mesh(scene.meshes[inst.mesh], inst.transform);
           inst.transform = mat4(1.0f);

@@ -79,6 +79,10 @@ struct Instance {
   std::string name;
   int mesh = 0;
   mat4 transform{1.0f};  // object → world
+  // Marked `"dynamic": true` in a scene file: an object that moves at run time, so bakes
+  // leave it out of their geometry and the real-time renderer lights it from the probes
+  // (bake/probe_lookup.h) instead of a light-map.
+  bool dynamic = false;
 };
 
 enum class LightType { kPoint, kSpot, kDirectional, kArea, kEnvironment };

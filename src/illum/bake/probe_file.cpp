@@ -1,0 +1,228 @@
+#include "illum/bake/probe_file.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "illum/atlas/lightmap_file.h"
+#include "illum/core/error.h"
+#include "illum/core/json_input.h"
+#include "illum/scene/geometry_hash.h"
+
+namespace illum::bake {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kManifest = "probes.json";
+constexpr const char* kDataFile = "probes.bin";
+constexpr char kMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'B'};
+constexpr uint32_t kVersion = 1;
+constexpr uint32_t kFloatsPerProbe = uint32_t(sizeof(ProbeRecord) / sizeof(float));
+constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
+
+const nlohmann::json& field(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key))
+    throw Error(fmt::format("{}: '{}' is missing", where, key));
+  return j.at(key);
+}
+
+double number_field(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = field(j, key, where);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw Error(fmt::format("{}: '{}' must be a finite number", where, key));
+  return v.get<double>();
+}
+
+std::string string_field(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = field(j, key, where);
+  if (!v.is_string()) throw Error(fmt::format("{}: '{}' must be a string", where, key));
+  return v.get<std::string>();
+}
+
+uint64_t count_field(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = field(j, key, where);
+  if (!v.is_number_integer() || v.get<int64_t>() < 0)
+    throw Error(fmt::format("{}: '{}' must be a non-negative integer", where, key));
+  return v.get<uint64_t>();
+}
+
+// Three finite numbers.
+glm::dvec3 triple(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = field(j, key, where);
+  if (!v.is_array() || v.size() != 3)
+    throw Error(fmt::format("{}: '{}' must be a list of three numbers", where, key));
+  glm::dvec3 out;
+  for (int i = 0; i < 3; ++i) {
+    if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
+      throw Error(fmt::format("{}: '{}' must be a list of three finite numbers", where, key));
+    out[i] = v[size_t(i)].get<double>();
+  }
+  return out;
+}
+
+}  // namespace
+
+void check_probe_output(const fs::path& folder) {
+  const fs::path target = atlas::bake_output_folder(folder);
+  if (!fs::is_directory(target.parent_path()))
+    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
+                            target.parent_path().string()));
+  if (fs::exists(target) && !fs::exists(target / kManifest))
+    throw Error(fmt::format("{}: exists and is not a probe folder (no {}); refusing to replace it",
+                            folder.string(), kManifest));
+}
+
+void save_probe_set(const fs::path& folder, const ProbeSet& set) {
+  if (set.grid.count() < 1 || size_t(set.grid.count()) != set.probes.size())
+    throw Error(fmt::format("probe set: {} records for a {}×{}×{} grid", set.probes.size(),
+                            set.grid.size.x, set.grid.size.y, set.grid.size.z));
+  check_probe_output(folder);
+  int64_t valid = 0;
+  for (const ProbeRecord& r : set.probes) valid += r.weight > 0.0f ? 1 : 0;
+  atlas::write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
+    std::ofstream out(staging / kDataFile, std::ios::binary);
+    const uint64_t points = set.probes.size();
+    out.write(kMagic, 8);
+    out.write(reinterpret_cast<const char*>(&kVersion), 4);
+    out.write(reinterpret_cast<const char*>(&kFloatsPerProbe), 4);
+    out.write(reinterpret_cast<const char*>(&points), 8);
+    out.write(reinterpret_cast<const char*>(set.probes.data()),
+              std::streamsize(points * sizeof(ProbeRecord)));
+    if (!out) throw Error(fmt::format("{}: cannot write", (staging / kDataFile).string()));
+    const ProbeGrid& g = set.grid;
+    return nlohmann::json{
+        {"format", "illum-probes"},
+        {"version", kVersion},
+        {"scene", set.scene},
+        {"scene_triangles", set.scene_triangles},
+        {"scene_hash", set.scene_hash},
+        {"grid",
+         {{"size", {g.size.x, g.size.y, g.size.z}},
+          {"origin", {g.origin.x, g.origin.y, g.origin.z}},
+          {"spacing", g.spacing}}},
+        {"sh_bands", kProbeBands},
+        {"backface_threshold", set.backface_threshold},
+        {"probes", points},
+        {"valid", valid},
+        {"data", kDataFile},
+        {"layout",
+         "per probe 47 f32: irradiance SH-L2 [9][rgb] (E, world frame, pole +z), ambient cube "
+         "E/pi [6][rgb] (+x,-x,+y,-y,+z,-z), back-face share, weight"},
+        {"bake", set.bake}};
+  });
+}
+
+ProbeSet load_probe_set(const fs::path& folder) {
+  const std::string where = folder.string();
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw Error(fmt::format("probe folder '{}' does not exist", where));
+  if (!fs::is_regular_file(folder / kManifest, ec))
+    throw Error(fmt::format("{}: no {} (not a probe folder)", where, kManifest));
+  const std::string mw = (folder / kManifest).string();
+  const nlohmann::json j = read_json_file(mw);
+  if (!j.is_object()) throw Error(fmt::format("{}: must be a JSON object", mw));
+  if (!field(j, "format", mw).is_string() || j.at("format") != "illum-probes" ||
+      count_field(j, "version", mw) != kVersion)
+    throw Error(fmt::format("{}: not an illum-probes version {} manifest", mw, kVersion));
+  ProbeSet set;
+  set.folder = where;
+  set.scene = string_field(j, "scene", mw);
+  set.scene_triangles = count_field(j, "scene_triangles", mw);
+  set.scene_hash = string_field(j, "scene_hash", mw);
+  if (set.scene_hash.size() != 16 ||
+      set.scene_hash.find_first_not_of("0123456789abcdef") != std::string::npos)
+    throw Error(fmt::format("{}: 'scene_hash' must be 16 lowercase hex digits", mw));
+  if (count_field(j, "sh_bands", mw) != uint64_t(kProbeBands))
+    throw Error(fmt::format("{}: 'sh_bands' must be {}", mw, kProbeBands));
+  set.backface_threshold = float(number_field(j, "backface_threshold", mw));
+  if (j.contains("bake")) set.bake = j.at("bake");
+  const nlohmann::json& grid = field(j, "grid", mw);
+  const std::string gw = mw + ": grid";
+  const nlohmann::json& size = field(grid, "size", gw);
+  if (!size.is_array() || size.size() != 3)
+    throw Error(fmt::format("{}: 'size' must be three integers ≥ 1", gw));
+  double probes = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const nlohmann::json& s = size[size_t(a)];
+    if (!s.is_number_integer() || s.get<int64_t>() < 1 || s.get<int64_t>() > (int64_t(1) << 30))
+      throw Error(fmt::format("{}: 'size' must be three integers ≥ 1", gw));
+    set.grid.size[a] = int(s.get<int64_t>());
+    probes *= double(set.grid.size[a]);
+  }
+  if (probes * double(sizeof(ProbeRecord)) > kMaxProbeBytes)
+    throw Error(fmt::format("{}: {:.4g} probes is more than the format allows", gw, probes));
+  set.grid.origin = vec3(triple(grid, "origin", gw));
+  set.grid.spacing = float(number_field(grid, "spacing", gw));
+  if (!(set.grid.spacing > 0.0f)) throw Error(fmt::format("{}: 'spacing' must be > 0", gw));
+  if (count_field(j, "probes", mw) != uint64_t(set.grid.count()))
+    throw Error(fmt::format("{}: 'probes' differs from the grid's {}", mw, set.grid.count()));
+
+  const fs::path data_path = folder / string_field(j, "data", mw);
+  const std::string dw = data_path.string();
+  if (string_field(j, "data", mw) != kDataFile)
+    throw Error(fmt::format("{}: 'data' must be {}", mw, kDataFile));
+  std::ifstream in(data_path, std::ios::binary | std::ios::ate);
+  if (!in) throw Error(fmt::format("{}: cannot open", dw));
+  const uint64_t bytes = uint64_t(in.tellg());
+  in.seekg(0);
+  if (bytes < kHeaderBytes) throw Error(fmt::format("{}: truncated header", dw));
+  char magic[8];
+  uint32_t version = 0, floats = 0;
+  uint64_t points = 0;
+  in.read(magic, 8);
+  in.read(reinterpret_cast<char*>(&version), 4);
+  in.read(reinterpret_cast<char*>(&floats), 4);
+  in.read(reinterpret_cast<char*>(&points), 8);
+  if (std::memcmp(magic, kMagic, 8) != 0 || version != kVersion || floats != kFloatsPerProbe)
+    throw Error(fmt::format("{}: not an ILLUMPRB version {} file of {} floats per probe", dw,
+                            kVersion, kFloatsPerProbe));
+  if (points != uint64_t(set.grid.count()))
+    throw Error(
+        fmt::format("{}: holds {} probes, the grid needs {}", dw, points, set.grid.count()));
+  const uint64_t expected = kHeaderBytes + points * sizeof(ProbeRecord);
+  if (bytes != expected)
+    throw Error(fmt::format("{}: {} bytes, {} expected ({})", dw, bytes, expected,
+                            bytes < expected ? "truncated" : "trailing data"));
+  set.probes.resize(points);
+  in.read(reinterpret_cast<char*>(set.probes.data()),
+          std::streamsize(points * sizeof(ProbeRecord)));
+  if (!in) throw Error(fmt::format("{}: read error", dw));
+  for (size_t p = 0; p < set.probes.size(); ++p) {
+    const float* f = reinterpret_cast<const float*>(&set.probes[p]);
+    for (uint32_t i = 0; i < kFloatsPerProbe; ++i)
+      if (!std::isfinite(f[i]))
+        throw Error(fmt::format("{}: value {} of probe {} is not finite", dw, i, p));
+    const ProbeRecord& r = set.probes[p];
+    if (r.weight != 0.0f && r.weight != 1.0f)
+      throw Error(fmt::format("{}: probe {} has weight {} (0 or 1)", dw, p, r.weight));
+    if (!(r.backface_fraction >= 0.0f && r.backface_fraction <= 1.0f))
+      throw Error(fmt::format("{}: probe {} has back-face share {} (not in [0, 1])", dw, p,
+                              r.backface_fraction));
+  }
+  return set;
+}
+
+void check_probe_scene(const Scene& scene, const ProbeSet& set) {
+  const std::string where = set.folder.empty() ? "probe set" : set.folder;
+  const Scene statics = static_part(scene);
+  const std::string hash = geometry_hash_hex(statics);
+  if (statics.triangle_count() != set.scene_triangles || hash != set.scene_hash)
+    throw Error(fmt::format(
+        "{}: baked for scene '{}' ({} triangles, hash {}), not for '{}' ({} triangles, hash {}); "
+        "bake it again for this scene",
+        where, set.scene, set.scene_triangles, set.scene_hash, scene.name, statics.triangle_count(),
+        hash));
+}
+
+ProbeSet load_probe_set_for(const fs::path& folder, const Scene& scene) {
+  ProbeSet set = load_probe_set(folder);
+  check_probe_scene(scene, set);
+  return set;
+}
+
+}  // namespace illum::bake
