@@ -6,8 +6,8 @@
 
 #include <cmath>
 #include <filesystem>
-#include <limits>
 #include <fstream>
+#include <limits>
 
 #include "illum/core/image.h"
 #include "illum/core/rng.h"
@@ -338,8 +338,7 @@ TEST(Image, BilinearMatchesDirectFormulaAcrossTiles) {
   const int w = 5, h = 3;
   Image img(w, h, 3);
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      img.set_rgb(x, y, Color(0.1f * x, 0.3f * y, 0.05f * (x * h + y)));
+    for (int x = 0; x < w; ++x) img.set_rgb(x, y, Color(0.1f * x, 0.3f * y, 0.05f * (x * h + y)));
   auto reference = [&](double u, double v, int channel) {
     const double x = u * w - 0.5, y = v * h - 0.5;
     const double fx = std::floor(x), fy = std::floor(y);
