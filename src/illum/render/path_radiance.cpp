@@ -83,10 +83,11 @@ Color PathRadiance::incident(Ray ray, const PathVertex& from, SobolSampler& samp
     const float u_rr = sampler.next_1d();
     if (bounce + 1 >= options_.rr_depth) {
       // Continue with probability √(max β) rather than max β (Cycles' rule): β falls by the
-      // albedo at every bounce, so max β kills most paths of a dim interior after three
+      // albedo at every bounce, so max β ended most paths of a dim interior after three
       // bounces while their indirect light is much of the image. Measured with
-      // `illum-bench converge` (docs/path-tracing.md, "Speed"): variance per sample −20 %
-      // on both benchmark scenes for +5–10 % time per sample. Unbiased either way.
+      // `illum-bench converge` (src/illum/render/README.md, "Speed"): variance per sample
+      // −16 to −23 % on Cornell and Sibenik, the time per sample within the run-to-run
+      // spread (±10 %). Unbiased either way.
       const float q = std::max(0.05f, 1.0f - std::min(1.0f, std::sqrt(max_component(beta))));
       if (u_rr < q) break;
       beta /= 1.0f - q;
