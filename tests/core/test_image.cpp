@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "illum/core/image.h"
 #include "illum/core/rng.h"
@@ -326,6 +327,41 @@ TEST(Image, BilinearInterpolatesAndWraps) {
   EXPECT_FLOAT_EQ(img.sample_bilinear(1.0f, 0.5f).r, 0.5f);
   EXPECT_FLOAT_EQ(img.sample_bilinear(-0.75f, 0.5f).r, 0.0f);
   EXPECT_FLOAT_EQ(img.sample_bilinear(2.75f, 3.0f).r, 1.0f);
+}
+
+TEST(Image, BilinearMatchesDirectFormulaAcrossTiles) {
+  // A 5×3 RGB image of distinct texels against the textbook formula in double precision
+  // (integer modulo for the wrap) at coordinates over several tiles, negative ones included.
+  // Tolerance: u is a float with |u| ≤ 4, so its rounding (≤ 2.4e-7) moves the texel
+  // coordinate by ≤ 1.2e-6 texels, and texel values differ by ≤ 1: 1e-5 covers that and
+  // the float sums.
+  const int w = 5, h = 3;
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img.set_rgb(x, y, Color(0.1f * x, 0.3f * y, 0.05f * (x * h + y)));
+  auto reference = [&](double u, double v, int channel) {
+    const double x = u * w - 0.5, y = v * h - 0.5;
+    const double fx = std::floor(x), fy = std::floor(y);
+    auto wrap = [](double i, int n) { return ((static_cast<int>(i) % n) + n) % n; };
+    const int x0 = wrap(fx, w), x1 = (x0 + 1) % w, y0 = wrap(fy, h), y1 = (y0 + 1) % h;
+    const double tx = x - fx, ty = y - fy;
+    auto at = [&](int xi, int yi) { return static_cast<double>(img.pixel(xi, yi)[channel]); };
+    return (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) +
+           ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+  };
+  Rng rng(17);
+  for (int i = 0; i < 2000; ++i) {
+    const float u = 8.0f * rng.next_float() - 4.0f, v = 8.0f * rng.next_float() - 4.0f;
+    const Color c = img.sample_bilinear(u, v);
+    for (int ch = 0; ch < 3; ++ch)
+      ASSERT_NEAR(c[ch], reference(u, v, ch), 1e-5) << u << " " << v << " channel " << ch;
+  }
+  // Non-finite coordinates read the lookup at 0 instead of indexing out of the image.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(img.sample_bilinear(nan, 0.5f), img.sample_bilinear(0.0f, 0.5f));
+  EXPECT_EQ(img.sample_bilinear(0.5f, inf), img.sample_bilinear(0.5f, 0.0f));
+  EXPECT_EQ(img.sample_bilinear(-inf, nan), img.sample_bilinear(0.0f, 0.0f));
 }
 
 }  // namespace

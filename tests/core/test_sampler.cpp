@@ -11,6 +11,7 @@
 #include "chi_square.h"
 #include "illum/core/rng.h"
 #include "illum/core/sampler.h"
+#include "illum/core/sobol_dimension1.h"
 
 namespace illum {
 namespace {
@@ -39,6 +40,29 @@ std::vector<vec2> pair_points(uint32_t seed, int pair, int m) {
     points[i] = {SobolSampler::sample(i, 2 * pair, seed),
                  SobolSampler::sample(i, 2 * pair + 1, seed)};
   return points;
+}
+
+TEST(SobolSampler, DimensionOneTransformIsTheGeneratorMatrix) {
+  // The superset transform against the definition: the xor of the generator matrix columns
+  // v_k (v_0 = 2^31, v_k = v_{k-1} xor v_{k-1} >> 1) of the index's set bits, all 32 digits.
+  // The net tests below only see the top 12 digits; this covers the rest.
+  uint32_t columns[32];
+  columns[0] = 1u << 31u;
+  for (int k = 1; k < 32; ++k) columns[k] = columns[k - 1] ^ (columns[k - 1] >> 1u);
+  auto reverse = [](uint32_t v) {
+    uint32_t r = 0;
+    for (int i = 0; i < 32; ++i) r |= ((v >> i) & 1u) << (31 - i);
+    return r;
+  };
+  Rng rng(5);
+  for (int n = 0; n < 20000; ++n) {
+    const uint32_t index =
+        n < 64 ? (n < 32 ? 1u << n : static_cast<uint32_t>(n - 32)) : rng.next_u32();
+    uint32_t direct = 0;
+    for (int k = 0; k < 32; ++k)
+      if ((index >> k) & 1u) direct ^= columns[k];
+    ASSERT_EQ(reverse(sobol_dimension1_reversed(index)), direct) << index;
+  }
 }
 
 TEST(SobolSampler, EveryPairIsANet) {

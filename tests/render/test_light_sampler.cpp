@@ -147,6 +147,45 @@ TEST(LightSampler, NextEventSelectionMixesPowerAndUniform) {
   EXPECT_GT(LightSampler(t).pmf(0), 0.25f);
 }
 
+TEST(LightSampler, SelectionAtPointDropsOnlySpotsThatCannotReachIt) {
+  // A point light, a spot aimed down at the origin (30° cone) and a sun. Inside the cone
+  // the point selection is the global one; outside it the spot gets nothing (sample_li
+  // confirms it contributes nothing there, which is what keeps this unbiased) and the other
+  // two share its probability in proportion. choose() must return each light exactly as
+  // often as pmf(light, p) says: with 4096 evenly spaced u the counts can differ from
+  // 4096 · pmf only by the one boundary cell each side.
+  Scene s = base_scene();
+  s.lights.push_back(point_light({1, 1, 0}, 2.0f));
+  s.lights.push_back(spot_light({0, 3, 0}, {0, -1, 0}, 50.0f, radians(30.0f)));
+  Light sun;
+  sun.type = LightType::kDirectional;
+  sun.direction = glm::normalize(vec3(0.3f, -1.0f, 0.2f));
+  sun.irradiance = Color(1.0f);
+  s.lights.push_back(sun);
+  const LightSampler ls(s);
+  const vec3 inside(0.2f, 0, 0.1f), outside(2.5f, 0, 0);
+  ASSERT_TRUE(ls.sample_li(1, inside, {0.5f, 0.5f}));
+  ASSERT_FALSE(ls.sample_li(1, outside, {0.5f, 0.5f}));
+  for (int i = 0; i < 3; ++i) EXPECT_FLOAT_EQ(ls.pmf(i, inside), ls.pmf(i));
+  EXPECT_EQ(ls.pmf(1, outside), 0.0f);
+  const float rest = ls.pmf(0) + ls.pmf(2);
+  EXPECT_FLOAT_EQ(ls.pmf(0, outside), ls.pmf(0) / rest);
+  EXPECT_FLOAT_EQ(ls.pmf(2, outside), ls.pmf(2) / rest);
+  for (const vec3& p : {inside, outside}) {
+    const int n = 4096;
+    int count[3] = {0, 0, 0};
+    for (int k = 0; k < n; ++k) {
+      float pmf = -1.0f;
+      const int light = ls.choose((static_cast<float>(k) + 0.5f) / n, p, &pmf);
+      ASSERT_GE(light, 0);
+      ASSERT_LT(light, 3);
+      ASSERT_FLOAT_EQ(pmf, ls.pmf(light, p));
+      ++count[light];
+    }
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(count[i], n * ls.pmf(i, p), 1.0) << i;
+  }
+}
+
 Scene env_scene() {
   Scene s = base_scene();
   Environment env;

@@ -43,23 +43,6 @@ void Image::set_rgb(int x, int y, const Color& c) {
   if (channels_ == 2 || channels_ == 4) p[channels_ - 1] = 1.0f;
 }
 
-Color Image::sample_bilinear(float u, float v) const {
-  ILLUM_CHECK(!empty(), "bilinear lookup in an empty image");
-  // Texel centres sit at (i + 0.5) / size; wrap both neighbours so the lookup tiles.
-  const float x = u * static_cast<float>(width_) - 0.5f;
-  const float y = v * static_cast<float>(height_) - 0.5f;
-  const float fx = std::floor(x), fy = std::floor(y);
-  const float tx = x - fx, ty = y - fy;
-  auto wrap = [](float i, int n) {
-    const auto m = static_cast<int>(std::fmod(i, static_cast<float>(n)));
-    return m < 0 ? m + n : m;
-  };
-  const int x0 = wrap(fx, width_), x1 = (x0 + 1) % width_;
-  const int y0 = wrap(fy, height_), y1 = (y0 + 1) % height_;
-  return (1.0f - ty) * ((1.0f - tx) * rgb(x0, y0) + tx * rgb(x1, y0)) +
-         ty * ((1.0f - tx) * rgb(x0, y1) + tx * rgb(x1, y1));
-}
-
 ImageFormat image_format_from_path(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),

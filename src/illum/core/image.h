@@ -2,6 +2,7 @@
 // PNG/JPEG (8-bit sRGB, via stb), Radiance HDR (via stb), OpenEXR (half or float).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -30,13 +31,47 @@ class Image {
   void set_rgb(int x, int y, const Color& c);  // alpha, if any, set to 1
 
   // Bilinear lookup with wrap-around (textures) at uv in [0,1)^2, v = 0 at the top row.
-  Color sample_bilinear(float u, float v) const;
+  // Any finite uv tiles; a non-finite coordinate reads as 0. Inline: it is on the path
+  // tracer's hit path (albedo and normal maps at every vertex).
+  Color sample_bilinear(float u, float v) const {
+    ILLUM_CHECK(!empty(), "bilinear lookup in an empty image");
+    int x0, x1, y0, y1;
+    float tx, ty;
+    wrap_texel(u, width_, &x0, &x1, &tx);
+    wrap_texel(v, height_, &y0, &y1, &ty);
+    const float* d = data_.data();
+    const size_t row0 = static_cast<size_t>(y0) * width_, row1 = static_cast<size_t>(y1) * width_;
+    const size_t c = static_cast<size_t>(channels_);
+    const float* p00 = d + (row0 + x0) * c;
+    const float* p10 = d + (row0 + x1) * c;
+    const float* p01 = d + (row1 + x0) * c;
+    const float* p11 = d + (row1 + x1) * c;
+    const auto texel = [rgb = channels_ >= 3](const float* p) {
+      return rgb ? Color(p[0], p[1], p[2]) : Color(p[0]);
+    };
+    return (1.0f - ty) * ((1.0f - tx) * texel(p00) + tx * texel(p10)) +
+           ty * ((1.0f - tx) * texel(p01) + tx * texel(p11));
+  }
 
   std::vector<float>& data() { return data_; }
   const std::vector<float>& data() const { return data_; }
 
  private:
   size_t index(int x, int y) const { return (static_cast<size_t>(y) * width_ + x) * channels_; }
+  // The two texels around coordinate `t` (texel centres at (i + 0.5) / n) and the weight of
+  // the second. `t` is first reduced to [0, 1], where t − floor(t) is exact, so the texel
+  // index needs no fmod and cannot overflow an int; index −1 and n wrap to n − 1 and 0.
+  static void wrap_texel(float t, int n, int* i0, int* i1, float* frac) {
+    float f = t - std::floor(t);
+    if (!(f >= 0.0f && f <= 1.0f)) f = 0.0f;  // NaN or infinite coordinate
+    const float x = f * static_cast<float>(n) - 0.5f;
+    const float fx = std::floor(x);
+    *frac = x - fx;
+    int i = static_cast<int>(fx);  // −1 … n − 1
+    if (i < 0) i += n;
+    *i0 = i;
+    *i1 = i + 1 == n ? 0 : i + 1;
+  }
   int width_ = 0, height_ = 0, channels_ = 0;
   std::vector<float> data_;
 };

@@ -1,9 +1,8 @@
 #include "illum/core/sampler.h"
 
-#include <array>
-
 #include "illum/core/error.h"
 #include "illum/core/rng.h"
+#include "illum/core/sobol_dimension1.h"
 
 namespace illum {
 
@@ -15,25 +14,6 @@ uint32_t reverse_bits(uint32_t v) {
   v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
   v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
   return (v >> 16u) | (v << 16u);
-}
-
-// Columns of the generator matrix of Sobol' dimension 1. For the primitive polynomial
-// x + 1 (degree s = 1, no inner coefficients) the direction-number recurrence
-// m_k = 2^s m_{k-s} xor m_{k-s} with m_1 = 1 becomes v_k = v_{k-1} xor (v_{k-1} >> 1)
-// in 32-bit fixed point.
-constexpr std::array<uint32_t, 32> make_dimension1_matrix() {
-  std::array<uint32_t, 32> v{};
-  v[0] = 1u << 31u;
-  for (size_t k = 1; k < v.size(); ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1u);
-  return v;
-}
-constexpr std::array<uint32_t, 32> kDimension1 = make_dimension1_matrix();
-
-uint32_t sobol_dimension1(uint32_t index) {
-  uint32_t result = 0;
-  for (int k = 0; index != 0; index >>= 1u, ++k)
-    if (index & 1u) result ^= kDimension1[static_cast<size_t>(k)];
-  return result;
 }
 
 // Laine–Karras-style permutation: every step (adding the seed, multiplying by an odd
@@ -52,10 +32,6 @@ uint32_t laine_karras_permutation(uint32_t x, uint32_t seed) {
   return x;
 }
 
-uint32_t nested_uniform_scramble(uint32_t x, uint32_t seed) {
-  return reverse_bits(laine_karras_permutation(reverse_bits(x), seed));
-}
-
 uint32_t seed_for(uint32_t seed, uint32_t pair, uint32_t purpose) {
   return static_cast<uint32_t>(hash_mix(seed, pair, purpose) >> 32u);
 }
@@ -63,15 +39,46 @@ uint32_t seed_for(uint32_t seed, uint32_t pair, uint32_t purpose) {
 // Purposes of the per-pair seeds (component scrambles use 0 and 1).
 constexpr uint32_t kShuffle = 2;
 
+// Each step below is the nested scramble reverse → Laine–Karras → reverse; written out so
+// that reversals which cancel are skipped. With `reversed_index` = reverse_bits(index):
+//   shuffled index  j = reverse(LK(reversed_index, shuffle seed))
+//   component 0: the van der Corput point of j is reverse(j), so its scramble is
+//                reverse(LK(j, seed 0));
+//   component 1: dimension 1 of j in reversed form is the superset transform of j, so its
+//                scramble is reverse(LK(superset(j), seed 1)).
+uint32_t shuffled_index(uint32_t reversed_index, uint32_t shuffle_seed) {
+  return reverse_bits(laine_karras_permutation(reversed_index, shuffle_seed));
+}
+float component0(uint32_t shuffled, uint32_t seed0) {
+  return u32_to_unit_float(reverse_bits(laine_karras_permutation(shuffled, seed0)));
+}
+float component1(uint32_t shuffled, uint32_t seed1) {
+  return u32_to_unit_float(
+      reverse_bits(laine_karras_permutation(sobol_dimension1_reversed(shuffled), seed1)));
+}
+
 }  // namespace
 
 float SobolSampler::sample(uint32_t index, int dim, uint32_t seed) {
   ILLUM_CHECK(dim >= 0, "negative sampler dimension {}", dim);
   const auto pair = static_cast<uint32_t>(dim) / 2u;
   const auto component = static_cast<uint32_t>(dim) % 2u;
-  const uint32_t shuffled = nested_uniform_scramble(index, seed_for(seed, pair, kShuffle));
-  const uint32_t sobol = component == 0 ? reverse_bits(shuffled) : sobol_dimension1(shuffled);
-  return u32_to_unit_float(nested_uniform_scramble(sobol, seed_for(seed, pair, component)));
+  const uint32_t j = shuffled_index(reverse_bits(index), seed_for(seed, pair, kShuffle));
+  const uint32_t component_seed = seed_for(seed, pair, component);
+  return component == 0 ? component0(j, component_seed) : component1(j, component_seed);
+}
+
+const SobolSampler::PairSeeds& SobolSampler::pair_seeds(int pair) {
+  // The per-pair seeds depend on the pixel seed and the pair only, so they are hashed once
+  // per sampler (i.e. per pixel and pass) instead of once per sample.
+  PairSeeds& seeds = pair_seeds_[static_cast<size_t>(pair)];
+  const uint32_t bit = 1u << static_cast<uint32_t>(pair);
+  if (!(seeds_ready_ & bit)) {
+    const auto p = static_cast<uint32_t>(pair);
+    seeds = {seed_for(seed32_, p, kShuffle), seed_for(seed32_, p, 0), seed_for(seed32_, p, 1)};
+    seeds_ready_ |= bit;
+  }
+  return seeds;
 }
 
 SobolSampler::SobolSampler(uint64_t seed)
@@ -79,13 +86,17 @@ SobolSampler::SobolSampler(uint64_t seed)
 
 void SobolSampler::start_sample(uint32_t index) {
   index_ = index;
+  reversed_index_ = reverse_bits(index);
   dim_ = 0;
 }
 
 float SobolSampler::next_1d() {
   const int dim = dim_;
   dim_ += 2;
-  if (dim < kMaxDimensions) return sample(index_, dim, seed32_);
+  if (dim < kMaxDimensions) {
+    const PairSeeds& seeds = pair_seeds(dim / 2);
+    return component0(shuffled_index(reversed_index_, seeds.shuffle), seeds.component[0]);
+  }
   return u32_to_unit_float(
       static_cast<uint32_t>(hash_mix(seed_, index_, static_cast<uint64_t>(dim)) >> 32u));
 }
@@ -93,7 +104,11 @@ float SobolSampler::next_1d() {
 vec2 SobolSampler::next_2d() {
   const int dim = dim_;
   dim_ += 2;
-  if (dim < kMaxDimensions) return {sample(index_, dim, seed32_), sample(index_, dim + 1, seed32_)};
+  if (dim < kMaxDimensions) {
+    const PairSeeds& seeds = pair_seeds(dim / 2);
+    const uint32_t j = shuffled_index(reversed_index_, seeds.shuffle);
+    return {component0(j, seeds.component[0]), component1(j, seeds.component[1])};
+  }
   const uint64_t h = hash_mix(seed_, index_, static_cast<uint64_t>(dim));
   return {u32_to_unit_float(static_cast<uint32_t>(h >> 32u)),
           u32_to_unit_float(static_cast<uint32_t>(h))};

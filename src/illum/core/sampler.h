@@ -19,6 +19,7 @@
 // component 0, a scrambled van der Corput sequence, stratified in 1-D.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "illum/core/math.h"
@@ -45,10 +46,20 @@ class SobolSampler {
   static float sample(uint32_t index, int dim, uint32_t seed);
 
  private:
+  struct PairSeeds {
+    uint32_t shuffle;
+    uint32_t component[2];
+  };
+  const PairSeeds& pair_seeds(int pair);
+
   uint64_t seed_;
   uint32_t seed32_;
-  uint32_t index_ = 0;
+  uint32_t index_ = 0, reversed_index_ = 0;
   int dim_ = 0;
+  // Seeds of each pair, hashed on first use (bit p of seeds_ready_ set once pair p's are).
+  uint32_t seeds_ready_ = 0;
+  static_assert(kMaxDimensions / 2 <= 32, "seeds_ready_ has one bit a pair");
+  std::array<PairSeeds, kMaxDimensions / 2> pair_seeds_;
 };
 
 }  // namespace illum

@@ -20,6 +20,20 @@ Color texture_mean(const Scene& scene, int texture) {
   return sum / static_cast<float>(image.pixel_count());
 }
 
+// Unit direction from p to a point or spot light at `position`; false when p is at it.
+bool direction_to(const vec3& position, const vec3& p, vec3* wi, float* r2) {
+  const vec3 d = position - p;
+  *r2 = glm::dot(d, d);
+  if (!(*r2 > 0.0f)) return false;
+  *wi = d / std::sqrt(*r2);
+  return true;
+}
+
+// Hard cone edge (S004): full intensity inside, nothing outside.
+bool inside_spot_cone(const Light& l, const vec3& wi) {
+  return glm::dot(-wi, glm::normalize(l.direction)) > l.cos_cutoff();
+}
+
 }  // namespace
 
 Ray shadow_ray(const vec3& p, const vec3& ng, const LightSample& sample) {
@@ -52,6 +66,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         break;
       case LightType::kSpot:
         e.power = light.cone_solid_angle() * light.intensity;
+        has_spots_ = true;
         break;
       case LightType::kDirectional:
         e.power = light.irradiance * disk_area;
@@ -192,6 +207,52 @@ float LightSampler::pmf(int light) const {
   return selection_.pmf(light);
 }
 
+bool LightSampler::can_reach(int light, const vec3& p) const {
+  const Entry& e = lights_[static_cast<size_t>(light)];
+  if (e.type != LightType::kSpot) return true;
+  const Light& l = scene_.lights[static_cast<size_t>(e.scene_light)];
+  vec3 wi;
+  float r2 = 0.0f;
+  return direction_to(l.position, p, &wi, &r2) && inside_spot_cone(l, wi);
+}
+
+float LightSampler::reachable_share(const vec3& p) const {
+  float share = 0.0f;
+  for (int i = 0; i < light_count(); ++i)
+    if (can_reach(i, p)) share += selection_.pmf(i);
+  return share;
+}
+
+int LightSampler::choose(float u, const vec3& p, float* pmf) const {
+  if (!has_spots_) return choose(u, pmf);
+  const float share = reachable_share(p);
+  if (!(share > 0.0f)) {
+    *pmf = 0.0f;
+    return -1;
+  }
+  // Inverse CDF over the reachable lights (in index order, so u's stratification carries
+  // over); the last reachable light with pmf > 0 takes any rounding remainder.
+  const float target = u * share;
+  float below = 0.0f;
+  int last = -1;
+  for (int i = 0; i < light_count(); ++i) {
+    const float w = selection_.pmf(i);
+    if (!(w > 0.0f) || !can_reach(i, p)) continue;
+    last = i;
+    if (target < below + w) break;
+    below += w;
+  }
+  *pmf = last >= 0 ? selection_.pmf(last) / share : 0.0f;
+  return last;
+}
+
+float LightSampler::pmf(int light, const vec3& p) const {
+  if (!has_spots_) return pmf(light);
+  if (light < 0 || light >= light_count() || !can_reach(light, p)) return 0.0f;
+  const float share = reachable_share(p);
+  return share > 0.0f ? selection_.pmf(light) / share : 0.0f;
+}
+
 int LightSampler::choose_by_power(float u, float* pmf) const {
   if (lights_.empty()) {
     if (pmf) *pmf = 0.0f;
@@ -257,16 +318,11 @@ std::optional<LightSample> LightSampler::sample_li(int light, const vec3& p, con
     case LightType::kPoint:
     case LightType::kSpot: {
       const Light& l = scene_.lights[e.scene_light];
-      const vec3 d = l.position - p;
-      const float r2 = glm::dot(d, d);
-      if (!(r2 > 0.0f)) return std::nullopt;
+      float r2 = 0.0f;
+      if (!direction_to(l.position, p, &s.wi, &r2)) return std::nullopt;
       s.distance = std::sqrt(r2);
-      s.wi = d / s.distance;
       s.p = l.position;
-      if (e.type == LightType::kSpot) {
-        // Hard cone edge (S004): full intensity inside, nothing outside.
-        if (glm::dot(-s.wi, glm::normalize(l.direction)) <= l.cos_cutoff()) return std::nullopt;
-      }
+      if (e.type == LightType::kSpot && !inside_spot_cone(l, s.wi)) return std::nullopt;
       s.li = l.intensity / r2;
       s.pdf = 1.0f;
       s.delta = true;

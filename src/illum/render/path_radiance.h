@@ -86,7 +86,7 @@ class PathRadiance {
                                                  int64_t* rays) const {
     if (lights_.light_count() <= 0) return std::nullopt;
     float pmf = 0.0f;
-    const int light = lights_.choose(u_light, &pmf);
+    const int light = lights_.choose(u_light, p, &pmf);
     if (light < 0 || !(pmf > 0.0f)) return std::nullopt;
     if (skip_delta && lights_.is_delta(light)) return std::nullopt;
     const std::optional<LightSample> ls = lights_.sample_li(light, p, u_point);
