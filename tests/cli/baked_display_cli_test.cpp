@@ -3,6 +3,7 @@
 // folder under the same sun, per pixel, in every frame pipeline and every lookup; bake
 // identity and bad folders refused with one line, exit 2, nothing written.
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <regex>
@@ -19,7 +20,31 @@ using illum_cli_test::slurp;
 
 #ifdef ILLUM_HAVE_GPU
 
-constexpr int kSize = 64;  // frame and relight images are kSize²
+// Frame and relight images are kSize² (64; ILLUM_DOC_IMAGE_SIZE overrides it for the
+// picture in docs/realtime.md, written to the folder ILLUM_DOC_IMAGES names when set).
+int image_size() {
+  const char* size = std::getenv("ILLUM_DOC_IMAGE_SIZE");
+  return size ? std::atoi(size) : 64;
+}
+const int kSize = image_size();
+
+// The picture: frame | relight | |frame − relight| × 1024, clamped to [0, 1] (linear values
+// under the sRGB encoding of write_image; 1024 makes the half-float differences visible).
+void write_doc_picture(const illum::Image& frame, const illum::Image& relit,
+                       const std::string& name) {
+  const char* folder = std::getenv("ILLUM_DOC_IMAGES");
+  if (!folder) return;
+  const int w = frame.width(), h = frame.height();
+  illum::Image out(3 * w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const illum::Color a = frame.rgb(x, y), b = glm::max(relit.rgb(x, y), illum::Color(0.0f));
+      out.set_rgb(x, y, glm::clamp(a, 0.0f, 1.0f));
+      out.set_rgb(w + x, y, glm::clamp(b, 0.0f, 1.0f));
+      out.set_rgb(2 * w + x, y, glm::clamp(glm::abs(a - b) * 1024.0f, 0.0f, 1.0f));
+    }
+  illum::write_image(std::string(folder) + "/" + name, out);
+}
 
 // The sun of -p baked.sun_azimuth/sun_elevation (techniques/baked.cpp): towards
 // (cos e sin a, sin e, cos e cos a); relight's --sun is the direction the light travels.
@@ -182,6 +207,8 @@ class BakedDisplayCli : public CliTest {
     else
       EXPECT_EQ(failed, 0) << pipeline << "/" << lookup;
     // The comparison covers the scene: the Cornell box fills the frame but for its emitter.
+    if (scene == "cornell" && pipeline == "forward" && bands == 3 && lookup == "texels")
+      write_doc_picture(a, b, "rt-prt-cornell-vs-relight.png");
     EXPECT_GT(compared, kSize * kSize * (scene == "cornell" ? 90 : 10) / 100)
         << pipeline << "/" << lookup;
     std::printf(
@@ -237,8 +264,8 @@ TEST_F(BakedDisplayCli, PrtFrameMatchesRelightInEveryPipeline8Bands) {
 
 // Instances sharing a mesh: the bake gives each its own mesh (appended after the others), so
 // the per-instance vertex transfer must be put in mesh order for the GPU vertex buffer. Two
-// glTF meshes, three nodes: mesh 0 twice (the copy becomes mesh 2), mesh 1 turned 45° so
-// that its transfer differs.
+// glTF meshes, three nodes: mesh 0 twice (the second node's copy becomes mesh 2), then mesh 1
+// turned 45° so that its transfer differs — instance order 0, 1, 2 is mesh order 0, 2, 1.
 TEST_F(BakedDisplayCli, PrtVertexTransferFollowsInstancesThatShareAMesh) {
   const float positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
   const uint16_t indices[6] = {0, 1, 2, 0, 2, 3};
@@ -248,8 +275,8 @@ TEST_F(BakedDisplayCli, PrtVertexTransferFollowsInstancesThatShareAMesh) {
   const std::string scene =
       write("quads.gltf",
             R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
-"nodes": [{"mesh": 0}, {"mesh": 1, "translation": [1.5, 0, 0],
-           "rotation": [0, 0.38268343, 0, 0.92387953]}, {"mesh": 0, "translation": [0, 1.5, 0]}],
+"nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0, 1.5, 0]},
+          {"mesh": 1, "translation": [1.5, 0, 0], "rotation": [0, 0.38268343, 0, 0.92387953]}],
 "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]},
            {"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
 "buffers": [{"uri": "quad.bin", "byteLength": 60}],
@@ -267,7 +294,8 @@ TEST_F(BakedDisplayCli, PrtVertexTransferFollowsInstancesThatShareAMesh) {
   check_folder(scene, folder, 3, false, 20.0, 40.0);  // the quads face +z, as the camera
 }
 
-// The sun parameters change the frame (and --lightmap is --baked for a light-map folder).
+// The sun parameters change the frame, auto is the texel lookup, `illum view` shows the
+// folder, and --lightmap is --baked for a light-map folder.
 TEST_F(BakedDisplayCli, SunParametersMoveTheLightAndLightmapIsAnAlias) {
   const fs::path folder = shared_bake(3, true);
   const fs::path a = dir_ / "a.exr", b = dir_ / "b.exr";
@@ -281,6 +309,18 @@ TEST_F(BakedDisplayCli, SunParametersMoveTheLightAndLightmapIsAnAlias) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x) diff += std::abs(ia.rgb(x, y).r - ib.rgb(x, y).r);
   EXPECT_GT(diff, 0.0);
+  // prt_lookup=auto is texels when the folder has them: the same bytes.
+  const fs::path t = dir_ / "t.exr";
+  ASSERT_EQ(frame("cornell", "--baked " + folder.string(), t,
+                  "-p baked.sun_azimuth=160 -p baked.prt_lookup=texels")
+                .exit_code,
+            0);
+  EXPECT_TRUE(slurp(t) == slurp(a)) << "texels and auto differ";
+  EXPECT_FALSE(slurp(t).empty());
+
+  // The viewer takes the folder and the sun parameters too (a window, or its headless frame).
+  const Result shown = view("cornell", "--baked " + folder.string() + " -p baked.sun_elevation=10");
+  EXPECT_EQ(shown.exit_code, 0) << shown.err;
 
   const fs::path lm = dir_ / "lm";
   ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 --seed 1 -o " + lm.string()).exit_code, 0);
