@@ -28,10 +28,11 @@ int image_size() {
 }
 const int kSize = image_size();
 
-// The picture: frame | relight | |frame − relight| × 1024, clamped to [0, 1] (linear values
-// under the sRGB encoding of write_image; 1024 makes the half-float differences visible).
+// The picture: frame | relight | |frame − relight| × 1024 on the compared pixels (black
+// elsewhere), clamped to [0, 1] (linear values under the sRGB encoding of write_image; 1024
+// makes the half-float differences visible).
 void write_doc_picture(const illum::Image& frame, const illum::Image& relit,
-                       const std::string& name) {
+                       const std::vector<bool>& compared, const std::string& name) {
   const char* folder = std::getenv("ILLUM_DOC_IMAGES");
   if (!folder) return;
   const int w = frame.width(), h = frame.height();
@@ -41,7 +42,8 @@ void write_doc_picture(const illum::Image& frame, const illum::Image& relit,
       const illum::Color a = frame.rgb(x, y), b = glm::max(relit.rgb(x, y), illum::Color(0.0f));
       out.set_rgb(x, y, glm::clamp(a, 0.0f, 1.0f));
       out.set_rgb(w + x, y, glm::clamp(b, 0.0f, 1.0f));
-      out.set_rgb(2 * w + x, y, glm::clamp(glm::abs(a - b) * 1024.0f, 0.0f, 1.0f));
+      if (compared[size_t(y) * size_t(w) + size_t(x)])
+        out.set_rgb(2 * w + x, y, glm::clamp(glm::abs(a - b) * 1024.0f, 0.0f, 1.0f));
     }
   illum::write_image(std::string(folder) + "/" + name, out);
 }
@@ -172,6 +174,7 @@ class BakedDisplayCli : public CliTest {
     ASSERT_EQ(a.width(), kSize);
     ASSERT_EQ(b.width(), kSize);
     int compared = 0, failed = 0;
+    std::vector<bool> mask(size_t(kSize) * size_t(kSize), false);
     double worst = 0.0, worst_tol = 0.0;
     for (int y = 0; y < kSize; ++y)
       for (int x = 0; x < kSize; ++x) {
@@ -180,6 +183,7 @@ class BakedDisplayCli : public CliTest {
         const illum::Color f = surface.rgb(x, y);
         if (!(f.r > 0.0f || f.g > 0.0f || f.b > 0.0f)) continue;  // no surface
         ++compared;
+        mask[size_t(y) * size_t(kSize) + size_t(x)] = true;
         bool bad = false;
         for (int c = 0; c < 3; ++c) {
           const double va = a.rgb(x, y)[c], vb = std::max(b.rgb(x, y)[c], 0.0f);
@@ -187,7 +191,7 @@ class BakedDisplayCli : public CliTest {
           const double d = std::abs(va - vb);
           if (d > worst) worst = d, worst_tol = tol;
           if (d <= tol) continue;
-          if (!bad && failed < 5 && !(lookup == "vq" && pipeline == "visibility"))
+          if (!bad && failed < 5 && lookup != "vq")
             ADD_FAILURE() << pipeline << "/" << lookup << " pixel (" << x << ", " << y
                           << ") channel " << c << ": frame " << va << ", relight " << vb
                           << ", tolerance " << tol;
@@ -196,19 +200,19 @@ class BakedDisplayCli : public CliTest {
         failed += bad;
       }
     // VQ taps are nearest lookups, discontinuous in uv1: where a tap lands within float error
-    // of a texel edge the two sides may take neighbouring representatives. The rasterizer's
-    // uv1 (forward, deferred) agrees with the ray tracer's closely enough that no pixel of
-    // these images does; the visibility resolve rebuilds uv1 from a ray–plane intersection,
-    // with a larger float error, and a few pixels switch a tap (2 of 3822 when this was
-    // written). Those are allowed there, up to 1 % of the compared pixels: a cap, not an
-    // estimate — a wrong decode fails nearly every pixel.
-    if (lookup == "vq" && pipeline == "visibility")
+    // of a texel edge, the frame (uv1 interpolated by the rasterizer, or rebuilt from a
+    // ray–plane intersection in the visibility resolve) and the relight (uv1 from the ray
+    // tracer's hit) may take neighbouring representatives. Measured when this was written: 0,
+    // 0, 2 of 3822 pixels (forward, deferred, visibility) at 64², 1, 1, 21 of 60805 at 256².
+    // Those are allowed, up to 1 % of the compared pixels: a cap, not an estimate — a wrong
+    // decode fails nearly every pixel.
+    if (lookup == "vq")
       EXPECT_LE(failed, compared / 100) << pipeline << "/" << lookup;
     else
       EXPECT_EQ(failed, 0) << pipeline << "/" << lookup;
     // The comparison covers the scene: the Cornell box fills the frame but for its emitter.
     if (scene == "cornell" && pipeline == "forward" && bands == 3 && lookup == "texels")
-      write_doc_picture(a, b, "rt-prt-cornell-vs-relight.png");
+      write_doc_picture(a, b, mask, "rt-prt-cornell-vs-relight.png");
     EXPECT_GT(compared, kSize * kSize * (scene == "cornell" ? 90 : 10) / 100)
         << pipeline << "/" << lookup;
     std::printf(
