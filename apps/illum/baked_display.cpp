@@ -54,7 +54,8 @@ std::string declared_format(const fs::path& folder) {
 
 const BakedKindInfo& folder_kind(const std::string& folder) {
   std::error_code ec;
-  if (!fs::is_directory(folder, ec)) throw Error(fmt::format("--baked {}: no such folder", folder));
+  if (!fs::is_directory(folder, ec))
+    throw Error(fmt::format("--baked {}: the folder does not exist", folder));
   const BakedKindInfo* found = nullptr;
   for (const BakedKindInfo& k : kBakedKinds) {
     if (!fs::exists(fs::path(folder) / k.manifest, ec)) continue;

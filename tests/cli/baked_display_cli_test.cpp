@@ -335,8 +335,8 @@ TEST_F(BakedDisplayCli, SunParametersMoveTheLightAndLightmapIsAnAlias) {
 }
 
 // Bake identity: a folder of either kind baked for another scene (same triangle count, the
-// mesh moved 1 mm) is refused by frame, view and relight with one line naming the folder
-// and both hashes; nothing is written.
+// mesh moved 1 mm; or another triangle count) is refused by frame, view and relight with one
+// line naming the folder and both hashes; nothing is written.
 TEST_F(BakedDisplayCli, FoldersBakedForAnotherSceneAreRefused) {
   const fs::path prt = shared_bake(3, true);
   const fs::path lm = dir_ / "lm";
@@ -355,6 +355,20 @@ TEST_F(BakedDisplayCli, FoldersBakedForAnotherSceneAreRefused) {
     }
     EXPECT_FALSE(fs::exists(out));
     EXPECT_FALSE(fs::exists(dir_ / "view.png"));
+  }
+  // Another triangle count: refused before the atlas is applied, still naming both hashes
+  // (the scene's as loaded).
+  for (const auto& [folder, manifest] :
+       {std::pair{prt, prt / "prt.json"}, std::pair{lm, lm / "lightmap.json"}}) {
+    const std::string hash = recorded_hash(manifest);
+    for (const Result& r : {frame("caustics", "--baked " + folder.string(), dir_ / "frame.png"),
+                            view("caustics", "--baked " + folder.string())}) {
+      expect_bad_input(r, folder.string());
+      EXPECT_NE(r.err.find("scene hash " + hash + "), which does not fit"), std::string::npos)
+          << r.err;
+      EXPECT_TRUE(std::regex_search(r.err, std::regex("scene hash [0-9a-f]{16} without the atlas")))
+          << r.err;
+    }
   }
   const Result relit = run("relight " + moved + " --prt " + prt.string() + " --sun 0,-1,1 -o " +
                            (dir_ / "relit.png").string());
@@ -375,7 +389,7 @@ TEST_F(BakedDisplayCli, BadFoldersAreRefused) {
     EXPECT_FALSE(fs::exists(out));
     EXPECT_FALSE(fs::exists(dir_ / "view.png"));
   };
-  refused("--baked " + (dir_ / "nowhere").string(), "no such folder");
+  refused("--baked " + (dir_ / "nowhere").string(), "the folder does not exist");
   fs::create_directories(dir_ / "empty");
   refused("--baked " + (dir_ / "empty").string(), "not a bake folder of a known kind");
   fs::create_directories(dir_ / "probes");
