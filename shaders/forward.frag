@@ -14,6 +14,7 @@ void main() {
   vec3 n = normalize(in_normal);
   bool front = dot(n, v) >= 0.0;  // two-sided surfaces, like the offline renderers
   Surface s = load_surface(push.material, in_world, n, in_tangent, in_uv, front);
+  s.prt_vertex = in_prt;
   // push.pad: 0 = everything; 1 = emission + ambient only (depth pass of the stencil-shadow
   // technique); 2 = only light push.light_index, no shadow-map lookup (stencil masks it).
   int mode = push.pad;
@@ -27,7 +28,5 @@ void main() {
     if (!light_contribution(i, s, v, radiance, l)) continue;
     color += radiance * (mode == 2 ? 1.0 : cube_shadow(i, s.p, s.ng, gl_FragCoord.xy));
   }
-  // PRT: the transfer carries shadowing and the cosine; relit by the lights' SH this frame.
-  if (baked.info.y != 0 && mode == 0) color = s.emission + ambient_term(s) + s.albedo / kPi * max(in_prt, 0.0);
   out_color = vec4(color, 1.0);
 }

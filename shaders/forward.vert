@@ -1,5 +1,5 @@
 #version 450
-#include "baked.glsl"
+#include "prt.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -11,7 +11,7 @@ layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec4 out_tangent;
 layout(location = 3) out vec4 out_uv;
-layout(location = 4) out vec3 out_prt;  // Σ transfer · light SH (RGB), when PRT is on
+layout(location = 4) out vec3 out_prt;  // per-vertex PRT: Σ T_i L_i (RGB), prt.glsl
 // The depth pre-pass and the shading pass (depth EQUAL) must compute identical depths:
 // no FMA contraction that a compiler could choose differently per pipeline. (The SPIR-V
 // Invariant decoration would say more but trips the validator on block members.)
@@ -24,11 +24,9 @@ void main() {
   out_normal = normal_matrix * in_normal;
   out_tangent = vec4(mat3(push.model) * in_tangent.xyz, in_tangent.w);
   out_uv = vec4(in_uv0, in_uv1);
-  out_prt = vec3(0.0);
-  if (baked.info.y != 0) {
-    vec4 t = prt_transfer[gl_VertexIndex];
-    out_prt = t.x * baked.prt_light[0].rgb + t.y * baked.prt_light[1].rgb + t.z * baked.prt_light[2].rgb +
-              t.w * baked.prt_light[3].rgb;
-  }
+  // Relit here and interpolated: Σ T_i L_i is linear in T, so this equals relighting the
+  // interpolated transfer (gl_VertexIndex counts from the draw's vertex offset: the scene
+  // vertex buffer's index, the transfer points' order).
+  out_prt = baked.info.y == kPrtVertices ? prt_point_relit(uint(gl_VertexIndex)) : vec3(0.0);
   gl_Position = frame.view_proj * world;
 }

@@ -17,6 +17,7 @@ void main() {
   vec3 v = normalize(frame.camera_pos.xyz - in_world);
   vec3 n = normalize(in_normal);
   Surface s = load_surface(push.material, in_world, n, in_tangent, in_uv, dot(n, v) >= 0.0);
+  s.prt_vertex = in_prt;
   out_albedo = vec4(s.albedo, s.exponent);
   out_normal = vec4(oct_encode(s.n), oct_encode(s.ng));
   out_specular = vec4(s.specular, float(s.type) / 255.0);

@@ -28,6 +28,7 @@ Surface gbuffer_surface(ivec2 pixel, float depth) {
   s.n_z = 1.0;
   s.n_ts = vec3(0.0, 0.0, 1.0);
   s.uv1 = vec2(0.0);
+  s.prt_vertex = vec3(0.0);
   return s;
 }
 

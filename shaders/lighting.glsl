@@ -8,6 +8,7 @@
 #include "common.glsl"
 #include "shadows.glsl"
 #include "baked.glsl"
+#include "prt.glsl"
 #include "sh.glsl"
 
 // Texture sampling hooks: fragment shaders sample with the implicit LOD of their quads; a
@@ -31,6 +32,7 @@ struct Surface {
   float n_z;     // tangent-space z of the normal map (1 without one)
   vec3 n_ts;     // tangent-space shading normal ((0,0,1) without a normal map)
   vec2 uv1;
+  vec3 prt_vertex;  // per-vertex PRT: the interpolated Σ T_i L_i (callers set it; prt.glsl)
 };
 
 Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4 uv, bool front) {
@@ -60,6 +62,7 @@ Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4
     s.n = normalize(t * tn.x + b * tn.y + s.ng * tn.z);
   }
   s.uv1 = uv.zw;
+  s.prt_vertex = vec3(0.0);
   return s;
 }
 
@@ -108,7 +111,7 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
   return true;
 }
 
-// Ambient: a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
+// Ambient: PRT when shown, a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
 // scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
 // weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (sh.glsl,
 // the normal as the pole) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
@@ -122,6 +125,12 @@ vec3 ambient_term_for(Surface s, int draw) {
              n2.y * ambient_cubes[base + (s.n.y >= 0.0 ? 2 : 3)].rgb +
              n2.z * ambient_cubes[base + (s.n.z >= 0.0 ? 4 : 5)].rgb;
     return s.albedo * a;
+  }
+  // PRT (prt.glsl): the baked transfer relit by the sun holds all the light the surface
+  // receives (direct and, when interreflected, bounced), so it replaces the ambient term.
+  if (baked.info.y != kPrtNone) {
+    vec3 e = baked.info.y == kPrtVertices ? s.prt_vertex : prt_atlas_relit(s.uv1);
+    return s.albedo * max(e, 0.0);
   }
   int kind = baked.info.x;
   if (kind == 0) return s.albedo * frame.ambient.rgb;

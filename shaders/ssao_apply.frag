@@ -1,9 +1,8 @@
 #version 450
 // Applies SSAO to the indirect terms only: the scene drawn again with depth EQUAL over the
 // frame's HDR target, adding (a − 1)·indirect with a = the combined AO factor and indirect =
-// the ambient term (constant, light-map, ambient cube) plus, where the forward pipeline shows
-// it, the PRT term — exactly what the pipelines' shaders added, so the frame becomes
-// emission + a·indirect + direct. Direct light is never touched. A stencil count lets only
+// the ambient term (constant, light-map, ambient cube or PRT) — exactly what the pipelines'
+// shaders added, so the frame becomes emission + a·indirect + direct. Direct light is never touched. A stencil count lets only
 // the first of coplanar duplicate surfaces apply.
 #include "lighting.glsl"
 #include "ambient_occlusion.glsl"
@@ -21,9 +20,8 @@ void main() {
   vec3 v = normalize(frame.camera_pos.xyz - in_world);
   vec3 n = normalize(in_normal);
   Surface s = load_surface(push.material, in_world, n, in_tangent, in_uv, dot(n, v) >= 0.0);
+  s.prt_vertex = in_prt;
   vec3 indirect = ambient_term(s);
-  // push.pad = 1: the pipeline shows PRT (forward, all lights in one pass).
-  if (push.pad == 1 && baked.info.y != 0) indirect += s.albedo / kPi * max(in_prt, 0.0);
   float screen = texelFetch(ao_map, ivec2(gl_FragCoord.xy), 0).r;
   float a = combine_ambient_occlusion(screen, baked_ambient_occlusion());
   out_color = vec4((a - 1.0) * indirect, 0.0);

@@ -103,6 +103,8 @@ void main() {
   vec3 v = normalize(frame.camera_pos.xyz - world);
   vec3 n = normalize(normal);
   Surface s = load_surface(dd.info.x, world, n, tangent, uv, dot(n, v) >= 0.0);
+  if (baked.info.y == kPrtVertices)  // forward.vert's per-vertex relighting, interpolated
+    s.prt_vertex = b.x * prt_point_relit(v0) + b.y * prt_point_relit(v1) + b.z * prt_point_relit(v2);
   vec3 color = s.emission + ambient_term_for(s, int(draw));
   int first_light = frame.counts.z >= 0 ? frame.counts.z : 0;
   int last_light = frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;

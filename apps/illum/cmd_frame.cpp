@@ -11,11 +11,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "baked_display.h"
 #include "commands.h"
 #include "illum/core/log.h"
 #include "illum/gpu/context.h"
 #include "illum/gpu/gpu_image.h"
-#include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/technique_registry.h"
 #include "illum/scene/load.h"
@@ -35,7 +35,7 @@ struct FrameArgs {
   std::string json;
   bool json_given = false;  // --json without a file: with --list, JSON on stdout
   std::string device;
-  std::string lightmap;  // folder written by `illum bake`
+  std::vector<std::string> baked;  // folders written by `illum bake` (baked_display.h)
   bool list = false;
   LoadOptions load;
 };
@@ -79,13 +79,11 @@ void run_frame(const FrameArgs& args) {
   if (args.warmup < 0) throw Error(fmt::format("--warmup {} must be ≥ 0", args.warmup));
 
   Scene scene = load_scene(args.scene, args.load);
-  realtime::Lightmap lightmap;
-  if (!args.lightmap.empty())
-    lightmap = realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
+  const BakedDisplay baked = load_baked_display(scene, args.baked);
   realtime::RenderSettings settings = realtime_settings(args.realtime, scene, args.frames > 1);
   settings.width = args.width > 0 ? args.width : scene.settings.width;
   settings.height = args.height > 0 ? args.height : scene.settings.height;
-  if (lightmap.kind != realtime::LightmapKind::kNone) settings.enable("baked");
+  if (baked.any()) settings.enable("baked");
   settings.check();
 
   gpu::ContextOptions context_options;
@@ -93,7 +91,7 @@ void run_frame(const FrameArgs& args) {
   gpu::Context context(context_options);
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   realtime::Renderer renderer(context, scene, settings);
-  if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
+  baked.show(renderer);
   log::release();  // the input is checked: the load's warnings may show now
 
   std::map<std::string, std::vector<double>> pass_ms;
@@ -232,8 +230,7 @@ void add_frame_command(CLI::App& app) {
                 "list every technique and its parameters (type, default, range, help) and exit; "
                 "needs no scene or GPU");
   cmd->add_option("--device", args->device, "pick the Vulkan device whose name contains this");
-  cmd->add_option("--lightmap", args->lightmap,
-                  "show a light-map folder written by `illum bake` (replaces the lights it holds)");
+  add_baked_option(cmd, &args->baked);
   add_load_options(cmd, &args->load);
   cmd->callback([args, cmd] {
     args->json_given = cmd->count("--json") > 0;

@@ -12,10 +12,10 @@
 
 #include <unistd.h>
 
+#include "baked_display.h"
 #include "commands.h"
 #include "illum/core/log.h"
 #include "illum/gpu/context.h"
-#include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/renderer_input.h"
 #include "illum/realtime/viewer.h"
@@ -36,7 +36,7 @@ struct ViewArgs {
   double seconds = 0.0;
   std::string screenshot;
   std::string camera_out;
-  std::string lightmap;  // folder written by `illum bake`
+  std::vector<std::string> baked;  // folders written by `illum bake` (baked_display.h)
   LoadOptions load;
 };
 
@@ -83,13 +83,13 @@ void run_view(const ViewArgs& args) {
     throw Error(fmt::format("--seconds {} must be a finite number ≥ 0", args.seconds));
   Scene scene = load_scene(args.scene, args.load);
   realtime::ViewerOptions viewer;
-  if (!args.lightmap.empty())
-    viewer.lightmap =
-        realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(args.lightmap));
+  const BakedDisplay baked = load_baked_display(scene, args.baked);
+  viewer.lightmap = baked.lightmap;
+  viewer.prt = baked.prt;
   realtime::RenderSettings settings = realtime_settings(args.realtime, scene, false);
   settings.width = args.width;
   settings.height = args.height;
-  if (viewer.lightmap.kind != realtime::LightmapKind::kNone) settings.enable("baked");
+  if (baked.any()) settings.enable("baked");
   settings.check();
   std::string reason;
   viewer.frames = args.frames;
@@ -104,8 +104,7 @@ void run_view(const ViewArgs& args) {
                  reason.c_str(), args.fallback_output.c_str());
     gpu::Context context;
     realtime::Renderer renderer(context, scene, settings);
-    if (viewer.lightmap.kind != realtime::LightmapKind::kNone)
-      renderer.set_lightmap(viewer.lightmap);
+    baked.show(renderer);
     renderer.render(camera);
     write_image(args.fallback_output, renderer.ldr());
   }
@@ -138,8 +137,7 @@ void add_view_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--screenshot", args->screenshot,
                   "write the last presented frame, panel included, to this .png");
-  cmd->add_option("--lightmap", args->lightmap,
-                  "show a light-map folder written by `illum bake` (replaces the lights it holds)");
+  add_baked_option(cmd, &args->baked);
   cmd->add_option("--camera-out", args->camera_out,
                   "at exit, write the camera as one line of JSON to this .json file: the "
                   "scene file's \"camera\" object (position, look_at, up, fov_y_deg), to "

@@ -34,6 +34,14 @@ void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
                   "bloom_strength=0.5, ambient=[r,g,b] (default: the scene's settings.ambient))");
 }
 
+void add_baked_option(CLI::App* cmd, std::vector<std::string>* folders) {
+  cmd->add_option("--baked,--lightmap", *folders,
+                  "show a folder written by `illum bake` — light-map or PRT, told by its "
+                  "manifest; repeatable, one of each kind (replaces the lights it holds; PRT is "
+                  "lit by the baked.sun_* parameters)")
+      ->allow_extra_args(false);
+}
+
 realtime::RenderSettings realtime_settings(const RealtimeArgs& args, const Scene& scene,
                                            bool timing) {
   nlohmann::json j = key_values_to_json(args.params);

@@ -25,6 +25,9 @@ struct RealtimeArgs {
 };
 
 void add_realtime_options(CLI::App* cmd, RealtimeArgs* args);
+// --baked DIR (repeatable; --lightmap is the same option): bake folders to show
+// (baked_display.h).
+void add_baked_option(CLI::App* cmd, std::vector<std::string>* folders);
 
 // The settings the options describe, for `scene` (lighting.ambient defaults to its
 // settings.ambient). With `timing` (illum frame --frames N > 1) the shadow methods

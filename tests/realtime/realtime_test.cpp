@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
 #include "illum/core/color.h"
 #include "illum/core/params.h"
+#include "illum/core/sh.h"
 #include "illum/core/tonemap.h"
 #include "illum/gpu/context.h"
 #include "illum/realtime/renderer.h"
@@ -916,34 +918,75 @@ TEST_F(RealtimeTest, AmbientCubesLightProbedInstances) {
 namespace illum::realtime {
 namespace {
 
-// PRT relit under a moving light: unshadowed diffuse transfer of a plane (the SH-L1
-// projection of max(n·ω, 0): π·Y00 and 2π/3·0.488603·n) under a directional light at angle
-// θ gives albedo/π · E · (1/4 + cosθ/2) — the L1 approximation of cosθ — for every θ
-// without re-uploading anything but the light.
-TEST_F(RealtimeTest, PrtTransferRelitUnderMovingLight) {
+// PRT relit under a moving sun: the unshadowed diffuse transfer of a plane facing +z at 2
+// bands, T_i = (Λ_l/π)·Y_i(n) (Y00 and (2/3)·Y10(n), docs/prt.md), under a sun of
+// irradiance E at angle θ gives albedo·E/π·(1/4 + cosθ/2) — the L1 approximation of cosθ —
+// for every θ, only the baked.sun_* parameters changing between frames; the same through
+// each lookup (per vertex, per texel, VQ) and each frame pipeline. The transfer is RGB
+// (unequal channels) so a channel mix-up shows.
+TEST_F(RealtimeTest, PrtTransferRelitUnderMovingSun) {
   Scene scene = lightmap_quad(false, vec3(0, 0, 1));
+  scene.lights.clear();
   const Color albedo = scene.materials[0].albedo;
-  Light sun;
-  sun.type = LightType::kDirectional;
-  sun.irradiance = Color(2.0f);
-  sun.direction = vec3(0, 0, -1);
-  scene.lights = {sun};
-  const vec4 t(kPi * 0.282095f, 0.0f, 2.0f * kPi / 3.0f * 0.488603f, 0.0f);  // n = +z
-  RenderSettings o;
-  o.width = o.height = 32;
-  o.shadows = "none";
-  Renderer r(context(), scene, o);
-  r.set_prt_transfer(std::vector<vec4>(4, t));
-  for (float degrees : {0.0f, 60.0f, 120.0f}) {
-    const float th = radians(degrees);
-    std::vector<Light> lights = scene.lights;
-    lights[0].direction = -vec3(std::sin(th), 0.0f, std::cos(th));
-    r.update_lights(lights);
-    r.render(*scene.camera);
-    const float expected = std::max(0.25f + 0.5f * std::cos(th), 0.0f);
-    expect_color_near(r.hdr().rgb(16, 16), albedo * kInvPi * sun.irradiance * expected);
+  const Color tint(1.0f, 0.75f, 0.5f);
+  const int bands = 2, channels = 3 * bands * bands;
+  std::vector<float> t(channels, 0.0f);
+  for (int c = 0; c < 3; ++c) {
+    t[0 * 3 + c] = tint[c] * float(sh::kY00);
+    t[2 * 3 + c] = tint[c] * 2.0f / 3.0f * float(sh::kY1);
   }
-  EXPECT_THROW(r.set_prt_transfer(std::vector<vec4>(3, t)), Error);
+  auto repeat = [&](size_t points) {
+    std::vector<float> all;
+    for (size_t p = 0; p < points; ++p) all.insert(all.end(), t.begin(), t.end());
+    return all;
+  };
+  PrtTransfer prt;
+  prt.bands = bands;
+  prt.width = prt.height = 3;
+  prt.vertices = repeat(4);
+  prt.texels = repeat(9);
+  prt.vq_representatives = repeat(2);
+  prt.vq_indices.assign(9, 1);
+  for (const char* pipeline : {"forward", "deferred", "visibility"})
+    for (const char* lookup : {"vertices", "texels", "vq"}) {
+      RenderSettings o;
+      o.width = o.height = 32;
+      o.shadows = "none";
+      o.pipeline = pipeline;
+      o.enable("baked");
+      o.set("baked.prt_lookup", std::string(lookup));
+      o.set("baked.sun_irradiance", 2.0f);
+      Renderer r(context(), scene, o);
+      r.set_prt(prt);
+      // The sun towards (cos e sin a, sin e, cos e cos a): at azimuth 0 the angle θ to +z is
+      // the elevation; azimuth 180, elevation 60 puts it at 120°.
+      for (const auto& [azimuth, elevation, theta] :
+           {std::tuple{0.0f, 0.0f, 0.0f}, {0.0f, 60.0f, 60.0f}, {180.0f, 60.0f, 120.0f}}) {
+        o.set("baked.sun_azimuth", azimuth);
+        o.set("baked.sun_elevation", elevation);
+        r.configure(o);
+        r.render(*scene.camera);
+        const float expected = std::max(0.25f + 0.5f * std::cos(radians(theta)), 0.0f);
+        SCOPED_TRACE(std::string(pipeline) + "/" + lookup + " θ=" + std::to_string(theta));
+        expect_color_near(r.hdr().rgb(16, 16), albedo * tint * 2.0f * kInvPi * expected);
+      }
+    }
+  Renderer r(context(), scene, RenderSettings{});
+  PrtTransfer bad = prt;
+  bad.vertices.pop_back();
+  EXPECT_THROW(r.set_prt(bad), Error);
+  bad = prt;
+  bad.vq_indices[4] = 2;  // past the 2 representatives
+  EXPECT_THROW(r.set_prt(bad), Error);
+  bad = prt;
+  bad.bands = 9;
+  EXPECT_THROW(r.set_prt(bad), Error);
+  RenderSettings vq;
+  vq.set("baked.prt_lookup", std::string("vq"));
+  Renderer no_vq(context(), scene, vq);
+  bad = prt;
+  bad.vq_indices.clear();
+  EXPECT_THROW(no_vq.set_prt(bad), Error);  // the chosen lookup's data is missing
 }
 
 }  // namespace

@@ -245,7 +245,7 @@ struct FrameSetup {
   std::string pipeline, shadows;
   bool lightmap = false;    // a constant plain light-map in place of the constant ambient
   bool duplicates = false;  // every surface drawn twice, coplanar (as in Sibenik)
-  bool prt = false;         // forward PRT: transfer vectors (zero without ambient)
+  bool prt = false;         // PRT: per-vertex transfer (zero without ambient)
 };
 
 Image frame(const Scene& scene, const FrameSetup& setup, bool ssao, Color ambient,
@@ -270,15 +270,18 @@ Image frame(const Scene& scene, const FrameSetup& setup, bool ssao, Color ambien
   if (setup.lightmap && ambient.r > 0.0f)
     r.set_lightmap({LightmapKind::kPlain, {Image(4, 4, 3, ambient.r)}});
   if (setup.prt) {
-    // PRT replaces the lights (frame = emission + ambient + albedo/π · transfer · light SH):
-    // with zero transfers and no ambient only the emission is left, the "direct" part.
+    // PRT takes the ambient term's place (albedo · transfer · sun SH), an indirect term for
+    // SSAO; the lights still add the direct part. Zero transfers without ambient: the
+    // frame holds only the direct part.
     size_t vertices = 0;
     for (const Mesh& m : drawn.meshes) vertices += m.positions.size();
     const float k = ambient.r > 0.0f ? 1.0f : 0.0f;
-    std::vector<glm::vec4> transfer(vertices);
+    PrtTransfer prt;
+    prt.bands = 2;
     for (size_t i = 0; i < vertices; ++i)
-      transfer[i] = k * glm::vec4(1.0f, 0.2f * std::sin(0.1f * i), 0.3f, 0.1f);
-    r.set_prt_transfer(transfer);
+      for (float t : {1.0f, 0.2f * std::sin(0.1f * float(i)), 0.3f, 0.1f})
+        for (int c = 0; c < 3; ++c) prt.vertices.push_back(k * t * (1.0f - 0.2f * float(c)));
+    r.set_prt(prt);
   }
   r.render(*scene.camera);
   return r.hdr();
@@ -291,7 +294,8 @@ TEST_F(SsaoTest, NeverDarkensDirectLightAndScalesExactlyTheIndirectTerm) {
         FrameSetup{"forward", "volume"}, FrameSetup{"deferred", "volume"},
         FrameSetup{"forward", "map", true}, FrameSetup{"deferred", "map", true},
         FrameSetup{"forward", "map", false, true}, FrameSetup{"deferred", "map", false, true},
-        FrameSetup{"forward", "map", false, false, true}}) {
+        FrameSetup{"forward", "map", false, false, true},
+        FrameSetup{"deferred", "map", false, false, true}}) {
     const std::string name = setup.pipeline + "/" + setup.shadows +
                              (setup.lightmap ? "/light-map" : "") +
                              (setup.duplicates ? "/duplicates" : "") + (setup.prt ? "/PRT" : "");

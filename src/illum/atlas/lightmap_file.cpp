@@ -355,10 +355,14 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
 
 void apply_lightmap_set(Scene& scene, const LightmapSet& set) {
   const std::string where = set.folder.empty() ? "light-map set" : set.folder;
+  // Both hashes in every refusal (bake identity): with another triangle count the atlas
+  // cannot be applied, so the scene's is its hash as loaded.
   if (scene.triangle_count() != set.scene_triangles)
     throw Error(fmt::format(
-        "{}: baked for '{}' ({} triangles), which does not fit scene '{}' ({} triangles)", where,
-        set.scene, set.scene_triangles, scene.name, scene.triangle_count()));
+        "{}: baked for '{}' ({} triangles, scene hash {}), which does not fit scene '{}' ({} "
+        "triangles, scene hash {} without the atlas); bake it again for this scene",
+        where, set.scene, set.scene_triangles, set.scene_hash.empty() ? "none" : set.scene_hash,
+        scene.name, scene.triangle_count(), geometry_hash_hex(scene)));
   if (set.scene_hash.empty())
     throw Error(fmt::format(
         "{}: records no scene hash (baked by an earlier illum), so it cannot be checked "

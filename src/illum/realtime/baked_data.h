@@ -3,6 +3,7 @@
 // add-on can be switched off and on again without giving them anew.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "illum/core/image.h"
@@ -32,11 +33,30 @@ struct AmbientCubeGrid {
   std::vector<int> instances;
 };
 
+// Baked PRT transfer (bake/prt_file.h) for display: RGB SH vectors T of bands² coefficients,
+// [point][coefficient][rgb], with E/π = Σ_i T_i·L_i under distant light of world-space SH
+// radiance L_i (core/sh.h). The `baked` add-on shows albedo × max(Σ T_i L_i, 0) in place of
+// the ambient term, L_i its sun projected to SH each frame, through one of the lookups of
+// `illum relight --lookup` (baked.prt_lookup): vertices (one point per vertex of every mesh
+// in scene order, interpolated barycentrically), texels (the atlas-sized SHL-map at uv1,
+// bilinear over texel centres, clamped at the edges) or vq (representatives + one index per
+// texel; 4 nearest taps at ±¼ texel averaged, S002 §5.8). Uploaded as half floats and
+// decoded on the GPU in every frame pipeline.
+enum class PrtLookup : int { kNone = 0, kVertices = 1, kTexels = 2, kVq = 3 };
+struct PrtTransfer {
+  int bands = 0;              // 0: no PRT; 1..8 (the uniform holds 64 coefficients)
+  int width = 0, height = 0;  // the atlas size (texels, vq)
+  std::vector<float> vertices, texels, vq_representatives;  // each empty when absent
+  std::vector<uint16_t> vq_indices;                         // width·height, or empty
+  bool empty() const { return bands == 0; }
+  int channels() const { return 3 * bands * bands; }
+};
+
 struct BakedData {
   Lightmap lightmap;
-  std::vector<vec4> cubes;         // 6 values per probed draw's interpolated cube
-  std::vector<int> draw_cube;      // per draw item: its cube + 1, 0 for none (empty: no probes)
-  std::vector<vec4> prt_transfer;  // per vertex, empty: no PRT
+  std::vector<vec4> cubes;     // 6 values per probed draw's interpolated cube
+  std::vector<int> draw_cube;  // per draw item: its cube + 1, 0 for none (empty: no probes)
+  PrtTransfer prt;             // lookup kNone: no PRT
 };
 
 // Fills data->cubes and data->draw_cube from `grid` for the draws of `scene` (draw_instances:

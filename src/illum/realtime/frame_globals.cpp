@@ -61,7 +61,7 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
       context,
       {B{0, kUbo}, B{1, kSsbo}, B{2, kTexture}, B{3, kTexture}, B{4, kTexture}, B{5, kSsbo}});
   layouts_[kBakedSet] = gpu::DescriptorSetLayout(
-      context, {B{0, kUbo}, B{1, kTexture}, B{2, kSsbo}, B{3, kSsbo}, B{4, kSsbo}});
+      context, {B{0, kUbo}, B{1, kTexture}, B{2, kSsbo}, B{3, kSsbo}, B{4, kSsbo}, B{5, kSsbo}});
 
   gpu::DescriptorWriter w;
   frame_set_ = descriptors_.allocate(layouts_[kFrameSet]);
@@ -109,7 +109,8 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
       .image(baked, 1, kTexture, dummy_array_.view(), clamp_linear_.handle(), kReadOnly)
       .buffer(baked, 2, kSsbo, dummy_buffer_.handle())
       .buffer(baked, 3, kSsbo, dummy_buffer_.handle())
-      .buffer(baked, 4, kSsbo, dummy_buffer_.handle());
+      .buffer(baked, 4, kSsbo, dummy_buffer_.handle())
+      .buffer(baked, 5, kSsbo, dummy_buffer_.handle());
   w.commit(context.device());
   default_layout_ = shading_layout();
 }

@@ -46,10 +46,12 @@ struct GpuShadowLight {
 };
 
 // Set 4, baked lighting: baked.glsl.
+inline constexpr int kMaxPrtCoefficients = 64;  // 8 bands
 struct BakedUniforms {
-  glm::ivec4 info;  // light-map kind, PRT on, entries of draw_cubes
+  glm::ivec4 info;  // light-map kind, PRT lookup (PrtLookup), entries of draw_cubes, bands²
   glm::vec4 intensity;
-  glm::vec4 prt_light[4];
+  glm::ivec4 prt_size;  // atlas width, height; halves per point (3·bands² rounded up to even)
+  glm::vec4 prt_light[kMaxPrtCoefficients];
 };
 
 struct PushConstants {

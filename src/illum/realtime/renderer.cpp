@@ -11,6 +11,7 @@
 #include "illum/realtime/frame_graph.h"
 #include "illum/realtime/frame_resources.h"
 #include "illum/realtime/gpu_scene.h"
+#include "illum/realtime/gpu_types.h"
 #include "illum/realtime/renderer_input.h"
 #include "illum/realtime/scene_draw.h"
 #include "illum/realtime/technique_context.h"
@@ -409,14 +410,34 @@ void Renderer::set_ambient_cubes(const AmbientCubeGrid& grid) {
   m.switch_on_baked();
 }
 
-void Renderer::set_prt_transfer(const std::vector<glm::vec4>& transfer) {
+void Renderer::set_prt(const PrtTransfer& prt) {
   Impl& m = *impl_;
+  if (prt.bands < 1 || prt.channels() / 3 > kMaxPrtCoefficients)
+    throw Error(fmt::format("PRT: {} bands; the display shows 1..8", prt.bands));
+  const size_t channels = static_cast<size_t>(prt.channels());
   size_t vertices = 0;
   for (const Mesh& mesh : m.scene.scene().meshes) vertices += mesh.positions.size();
-  if (transfer.size() != vertices)
-    throw Error(fmt::format("PRT: {} transfer vectors for {} vertices", transfer.size(), vertices));
-  if (m.settings.pipeline != "forward") throw Error("PRT display needs the forward technique");
-  m.baked.prt_transfer = transfer;
+  if (!prt.vertices.empty() && prt.vertices.size() != vertices * channels)
+    throw Error(fmt::format("PRT: {} vertex transfer values for {} vertices × {} channels",
+                            prt.vertices.size(), vertices, channels));
+  const size_t texels =
+      static_cast<size_t>(std::max(prt.width, 0)) * static_cast<size_t>(std::max(prt.height, 0));
+  if (!prt.texels.empty() && prt.texels.size() != texels * channels)
+    throw Error(fmt::format("PRT: {} texel transfer values for a {}x{} atlas × {} channels",
+                            prt.texels.size(), prt.width, prt.height, channels));
+  if (!prt.vq_indices.empty()) {
+    const size_t count = prt.vq_representatives.size() / channels;
+    if (prt.vq_indices.size() != texels || count == 0 ||
+        prt.vq_representatives.size() != count * channels)
+      throw Error(fmt::format("PRT: VQ data does not fit a {}x{} atlas × {} channels", prt.width,
+                              prt.height, channels));
+    for (uint16_t i : prt.vq_indices)
+      if (i >= count)
+        throw Error(fmt::format("PRT: VQ index {} past {} representatives", i, count));
+  }
+  if (prt.vertices.empty() && prt.texels.empty() && prt.vq_indices.empty())
+    throw Error("PRT: no vertex, texel or VQ transfer given");
+  m.baked.prt = prt;
   m.switch_on_baked();
 }
 

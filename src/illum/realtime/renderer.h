@@ -75,12 +75,12 @@ class Renderer {
   // constant ambient). set_lightmap throws Error on a wrong layer count or mismatched sizes.
   void set_lightmap(const Lightmap& lightmap);
   void set_ambient_cubes(const AmbientCubeGrid& grid);
-  // PRT (forward pipeline): per-vertex SH-L1 transfer vectors T_i = ∫ V(ω) max(n·ω, 0)
-  // Y_i(ω) dω (basis order Y00, Y1−1, Y10, Y11), one per vertex of every mesh in scene order.
-  // Each frame the lights are projected to SH-L1 (directional: E·Y_i(−d); point/spot:
-  // I/d²·Y_i at the scene centre, i.e. treated as distant) and the shader outputs
-  // emission + ambient + albedo/π · Σ T_i·L_i in place of the per-light loop.
-  void set_prt_transfer(const std::vector<glm::vec4>& transfer);
+  // PRT transfer (baked_data.h), shown in every frame pipeline: the ambient term becomes
+  // albedo × max(Σ T_i L_i, 0) with L_i the `baked` add-on's sun (baked.sun_*) projected to
+  // SH each frame; the scene's lights still add their own light (a caller showing a bake
+  // removes them: baked_display). Throws Error for bands outside 1..8, sizes that do not fit
+  // the scene's vertices or the atlas, a VQ index past the representatives, or no data.
+  void set_prt(const PrtTransfer& prt);
   // Light changes re-render the shadow maps and rebuild the volumes (their schedules name
   // the lights). `lights` replaces the renderer's lights (as realtime_lights() made them),
   // same count.

@@ -543,6 +543,7 @@ bool run_viewer(const Scene& scene, const RenderSettings& initial, const ViewerO
     if (!renderer) {
       renderer = std::make_unique<Renderer>(ctx, scene, settings);
       if (viewer.lightmap.kind != LightmapKind::kNone) renderer->set_lightmap(viewer.lightmap);
+      if (!viewer.prt.empty()) renderer->set_prt(viewer.prt);
       panel.lights_changed = true;  // a new renderer starts from the scene's lights
     } else if (!(settings == renderer->settings())) {
       try {

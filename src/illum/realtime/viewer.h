@@ -20,6 +20,7 @@ struct ViewerOptions {
   double seconds = 0.0;    // > 0: close the window after this many seconds
   std::string screenshot;  // write the last presented image (scene + panel) here (.png)
   Lightmap lightmap;       // baked light-map shown by every renderer the viewer builds
+  PrtTransfer prt;         // baked PRT transfer, likewise (empty: none)
 };
 
 // Opens the window and runs until it is closed. Returns false without side effects when no

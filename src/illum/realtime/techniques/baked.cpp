@@ -1,7 +1,10 @@
 // Baked lighting in the ambient term (shaders/baked.glsl, slot 4): light-maps (plain, RNM,
-// SH-L1) at uv1, ambient-cube probes per draw, and SH-L1 PRT per vertex relit by the
-// lights' SH each frame. The data stays with the renderer (Renderer::set_lightmap, ...);
+// SH-L1) at uv1, ambient-cube probes per draw, and PRT transfer (per vertex, per texel or
+// VQ-compressed, 1..8 bands) relit each frame by a sun projected to SH on the CPU
+// (shaders/prt.glsl). The data stays with the renderer (Renderer::set_lightmap, ...);
 // switching the add-on on uploads it into this technique's own set.
+#include <glm/gtc/packing.hpp>
+
 #include "illum/core/sh.h"
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/realtime_lights.h"
@@ -53,6 +56,46 @@ void interpolate_ambient_cubes(const AmbientCubeGrid& grid, const Scene& scene,
 
 namespace {
 
+// Points of `channels` floats as half floats, two per word, each point padded to an even
+// count so that a point starts on a word (prt.glsl's prt_half).
+std::vector<uint32_t> pack_halves(const std::vector<float>& values, int channels) {
+  const size_t stride = static_cast<size_t>(channels + (channels & 1));
+  const size_t points = values.size() / static_cast<size_t>(channels);
+  std::vector<uint32_t> words(points * stride / 2, 0u);
+  for (size_t p = 0; p < points; ++p)
+    for (size_t c = 0; c < static_cast<size_t>(channels); ++c) {
+      const size_t k = p * stride + c;
+      const uint32_t h = glm::packHalf1x16(values[p * static_cast<size_t>(channels) + c]);
+      words[k / 2] |= (k & 1) ? h << 16 : h;
+    }
+  return words;
+}
+
+PrtLookup chosen_lookup(const PrtTransfer& prt, const std::string& name) {
+  if (prt.empty()) return PrtLookup::kNone;
+  const PrtLookup lookup = name == "vertices"   ? PrtLookup::kVertices
+                           : name == "vq"       ? PrtLookup::kVq
+                           : name == "texels"   ? PrtLookup::kTexels
+                           : prt.texels.empty() ? PrtLookup::kVertices
+                                                : PrtLookup::kTexels;  // auto
+  const bool has = lookup == PrtLookup::kVertices ? !prt.vertices.empty()
+                   : lookup == PrtLookup::kTexels ? !prt.texels.empty()
+                                                  : !prt.vq_indices.empty();
+  if (!has)
+    throw Error(fmt::format("baked.prt_lookup={}: the PRT data holds no {} transfer", name,
+                            name == "vq"         ? "VQ-compressed"
+                            : name == "vertices" ? "vertex"
+                                                 : "texel"));
+  return lookup;
+}
+
+// The direction towards the sun of baked.sun_azimuth / sun_elevation (degrees; y up,
+// azimuth 0 towards +z, 90 towards +x): illum relight's --sun is its negative.
+vec3 sun_towards(float azimuth_deg, float elevation_deg) {
+  const float az = radians(azimuth_deg), el = radians(elevation_deg);
+  return vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+}
+
 class Baked final : public Technique {
  public:
   Baked(TechniqueContext& ctx, const TechniqueDecl& decl)
@@ -83,8 +126,22 @@ class Baked final : public Technique {
       return buffer->handle();
     };
     const VkBuffer cubes = storage(data.cubes.data(), data.cubes.size() * sizeof(vec4), &cubes_);
-    const VkBuffer prt =
-        storage(data.prt_transfer.data(), data.prt_transfer.size() * sizeof(vec4), &prt_);
+    lookup_ = chosen_lookup(data.prt, param<std::string>("prt_lookup"));
+    std::vector<uint32_t> points, indices;
+    if (lookup_ != PrtLookup::kNone) {
+      const PrtTransfer& prt = data.prt;
+      points = pack_halves(lookup_ == PrtLookup::kVertices ? prt.vertices
+                           : lookup_ == PrtLookup::kTexels ? prt.texels
+                                                           : prt.vq_representatives,
+                           prt.channels());
+      if (lookup_ == PrtLookup::kVq) {
+        indices.assign((prt.vq_indices.size() + 1) / 2, 0u);
+        for (size_t i = 0; i < prt.vq_indices.size(); ++i)
+          indices[i / 2] |= uint32_t(prt.vq_indices[i]) << (i & 1 ? 16 : 0);
+      }
+    }
+    const VkBuffer prt = storage(points.data(), points.size() * sizeof(uint32_t), &prt_);
+    const VkBuffer vq = storage(indices.data(), indices.size() * sizeof(uint32_t), &vq_);
     const VkBuffer draw_cube =
         storage(data.draw_cube.data(), data.draw_cube.size() * sizeof(int), &draw_cube_);
     uniforms_ = gpu::Buffer(ctx.gpu, sizeof(BakedUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -98,6 +155,7 @@ class Baked final : public Technique {
         .buffer(set_, 2, ssbo, cubes)
         .buffer(set_, 3, ssbo, prt)
         .buffer(set_, 4, ssbo, draw_cube)
+        .buffer(set_, 5, ssbo, vq)
         .commit(ctx.gpu.device());
   }
 
@@ -108,33 +166,21 @@ class Baked final : public Technique {
   void update() override {
     const BakedData& data = ctx_.baked();
     BakedUniforms u{};
-    const bool prt = !data.prt_transfer.empty();
-    u.info = glm::ivec4(static_cast<int>(data.lightmap.kind), prt ? 1 : 0,
+    u.info = glm::ivec4(static_cast<int>(data.lightmap.kind), static_cast<int>(lookup_),
                         static_cast<int>(data.draw_cube.size()), 0);
     u.intensity = vec4(param<float>("intensity"), 0.0f, 0.0f, 0.0f);
-    if (prt) {
-      // The lights projected to SH-L1 at the scene centre (point and spot lights treated as
-      // distant).
-      const vec3 centre = ctx_.scene.bounds().center();
-      for (const Light& l : ctx_.lights()) {
-        vec3 w;
-        Color radiance;
-        if (l.type == LightType::kDirectional) {
-          w = -glm::normalize(l.direction);
-          radiance = l.irradiance;
-        } else if (l.type == LightType::kPoint || l.type == LightType::kSpot) {
-          const vec3 to = l.position - centre;
-          const float d2 = std::max(glm::dot(to, to), 1e-12f);
-          w = to / std::sqrt(d2);
-          radiance = l.intensity / d2;
-          if (l.cosine_falloff)
-            radiance *= std::max(-glm::dot(w, glm::normalize(l.direction)), 0.0f);
-        } else {
-          continue;
-        }
-        const vec4 y = sh::evaluate_l1(w);  // world space: the SH pole is world +z
-        for (int k = 0; k < 4; ++k) u.prt_light[k] += vec4(radiance * y[k], 0.0f);
-      }
+    if (lookup_ != PrtLookup::kNone) {
+      // The sun as illum relight projects it: L_i = E·Y_i(s), s towards the sun, world frame.
+      const int bands = data.prt.bands;
+      const int n = sh::coefficient_count(bands);
+      u.info.w = n;
+      u.prt_size = glm::ivec4(data.prt.width, data.prt.height,
+                              data.prt.channels() + (data.prt.channels() & 1), 0);
+      std::vector<float> y(static_cast<size_t>(n));
+      sh::evaluate<float>(
+          bands, sun_towards(param<float>("sun_azimuth"), param<float>("sun_elevation")), y);
+      const float e = param<float>("sun_irradiance");
+      for (int i = 0; i < n; ++i) u.prt_light[i] = vec4(vec3(e * y[static_cast<size_t>(i)]), 0.0f);
     }
     uniforms_.write(&u, sizeof(u));
   }
@@ -142,7 +188,8 @@ class Baked final : public Technique {
  private:
   gpu::DescriptorAllocator descriptors_;
   gpu::GpuImage lightmap_;
-  gpu::Buffer cubes_, prt_, draw_cube_, uniforms_;
+  gpu::Buffer cubes_, prt_, draw_cube_, vq_, uniforms_;
+  PrtLookup lookup_ = PrtLookup::kNone;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };
 
@@ -153,12 +200,24 @@ TechniqueDecl baked_technique() {
   t.name = "baked";
   t.kind = TechniqueKind::kAddOn;
   t.summary =
-      "baked lighting shown in the ambient term: light-maps (plain, RNM, SH-L1; --lightmap), "
-      "ambient-cube probes for listed instances, per-vertex SH-L1 PRT (forward); switched on "
-      "when such data is given";
+      "baked lighting shown in the ambient term: light-maps (plain, RNM, SH-L1), ambient-cube "
+      "probes for listed instances, PRT transfer relit by a sun (per vertex, per texel or VQ; "
+      "--baked DIR); switched on when such data is given";
   t.params = {
       float_param("intensity", 1.0f, 0.0f, 1e6f, "multiplies the light-map")
           .slider(UiHint::kLogarithmic, 0.01, 16),
+      float_param("sun_azimuth", 0.0f, -360.0f, 360.0f,
+                  "PRT sun: azimuth in degrees about +y (0: the sun towards +z, 90: towards +x)")
+          .slider(UiHint::kLinear, -180.0, 180.0),
+      float_param("sun_elevation", 45.0f, -90.0f, 90.0f,
+                  "PRT sun: elevation in degrees above the xz plane"),
+      float_param("sun_irradiance", kPi, 0.0f, 1e6f,
+                  "PRT sun: irradiance E on a surface facing it (π: a white surface facing it "
+                  "shows radiance 1, as illum relight's default)")
+          .slider(UiHint::kLogarithmic, 0.01, 100),
+      enum_param("prt_lookup", "auto", {"auto", "texels", "vertices", "vq"},
+                 "PRT lookup (illum relight --lookup): auto = texels when baked, else vertices")
+          .structural(),
   };
   t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
     return std::make_unique<Baked>(ctx, *find_technique("baked"));

@@ -202,9 +202,7 @@ class Ssao final : public Technique {
                                   ctx_.resources.image("depth").layer_view(0),
                                   {ctx_.width(), ctx_.height()});
     vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
-    SceneView view = SceneView::camera(ctx_.view().view_proj, false);
-    // forward.frag shows PRT in its all-lights pass (not with stencil-masked lights).
-    view.mode = ctx_.pipeline().name() == "forward" && !ctx_.shadow_method().masks_lights();
+    const SceneView view = SceneView::camera(ctx_.view().view_proj, false);
     ctx_.drawer.draw(c, apply_, layout_.handle(), ctx_.shading_sets(sets_[kApplySet]), view);
     ctx_.drawer.end(c);
   }

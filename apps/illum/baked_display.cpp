@@ -1,0 +1,147 @@
+#include "baked_display.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "illum/atlas/lightmap_file.h"
+#include "illum/bake/prt_file.h"
+#include "illum/core/error.h"
+#include "illum/realtime/baked_lightmap.h"
+
+namespace illum::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class BakedKind { kLightmap, kPrt };
+
+struct BakedKindInfo {
+  BakedKind kind;
+  const char* name;      // for messages
+  const char* manifest;  // the file that tells the kind
+};
+
+// One entry per kind the display knows; a folder is of the kind whose manifest it holds.
+constexpr BakedKindInfo kBakedKinds[] = {
+    {BakedKind::kLightmap, "light-map", "lightmap.json"},
+    {BakedKind::kPrt, "PRT", "prt.json"},
+};
+
+std::string known_manifests() {
+  std::string names;
+  for (const BakedKindInfo& k : kBakedKinds)
+    names += fmt::format("{}{} ({})", names.empty() ? "" : ", ", k.manifest, k.name);
+  return names;
+}
+
+// The "format" a JSON file in the folder declares, or "" (a hint for a folder of a kind the
+// display does not know, e.g. one written by a newer illum).
+std::string declared_format(const fs::path& folder) {
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(folder, ec)) {
+    if (e.path().extension() != ".json") continue;
+    const nlohmann::json j = nlohmann::json::parse(std::ifstream(e.path()), nullptr, false);
+    if (j.is_object() && j.contains("format") && j.at("format").is_string())
+      return fmt::format("{} declares format '{}'", e.path().filename().string(),
+                         j.at("format").get<std::string>().substr(0, 40));
+  }
+  return "";
+}
+
+const BakedKindInfo& folder_kind(const std::string& folder) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw Error(fmt::format("--baked {}: the folder does not exist", folder));
+  const BakedKindInfo* found = nullptr;
+  for (const BakedKindInfo& k : kBakedKinds) {
+    if (!fs::exists(fs::path(folder) / k.manifest, ec)) continue;
+    if (found)
+      throw Error(fmt::format("--baked {}: holds both {} and {}; a bake folder is of one kind",
+                              folder, found->manifest, k.manifest));
+    found = &k;
+  }
+  if (!found) {
+    const std::string format = declared_format(folder);
+    throw Error(fmt::format("--baked {}: not a bake folder of a known kind ({}{}; known: {})",
+                            folder, format.empty() ? "no manifest" : format,
+                            format.empty() ? "" : ", not shown by this illum", known_manifests()));
+  }
+  return *found;
+}
+
+// The set's transfer in the renderer's order: vertices per mesh (the GPU vertex buffer's
+// order) rather than per instance; apply_prt_set made every instance's mesh its own.
+realtime::PrtTransfer prt_transfer(const Scene& scene, bake::PrtSet set) {
+  realtime::PrtTransfer prt;
+  prt.bands = set.bands;
+  prt.width = set.atlas.width;
+  prt.height = set.atlas.height;
+  prt.texels = std::move(set.texel_transfer.data);
+  prt.vq_representatives = std::move(set.vq.representatives);
+  prt.vq_indices = std::move(set.vq.indices);
+  if (!set.vertex_transfer.empty()) {
+    const size_t channels = static_cast<size_t>(prt.channels());
+    std::vector<size_t> first(scene.meshes.size() + 1, 0);
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+      first[m + 1] = first[m] + scene.meshes[m].vertex_count() * channels;
+    prt.vertices.assign(first.back(), 0.0f);  // a mesh no instance draws: never shown
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+      const size_t m = static_cast<size_t>(scene.instances[i].mesh);
+      std::copy(set.vertex_transfer[i].begin(), set.vertex_transfer[i].end(),
+                prt.vertices.begin() + static_cast<std::ptrdiff_t>(first[m]));
+    }
+  }
+  return prt;
+}
+
+}  // namespace
+
+void BakedDisplay::show(realtime::Renderer& renderer) const {
+  if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
+  if (!prt.empty()) renderer.set_prt(prt);
+}
+
+BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& folders) {
+  // Every folder is told and read before the scene changes: a refusal leaves it as it was.
+  std::vector<std::pair<const BakedKindInfo*, std::string>> chosen;
+  for (const std::string& folder : folders) {
+    const BakedKindInfo& kind = folder_kind(folder);
+    for (const auto& [other, other_folder] : chosen)
+      if (other->kind == kind.kind)
+        throw Error(fmt::format("--baked {}: a second {} folder ({} is one); show one of each kind",
+                                folder, kind.name, other_folder));
+    chosen.emplace_back(&kind, folder);
+  }
+  const auto given = [&](BakedKind kind) -> const std::string* {
+    for (const auto& [k, folder] : chosen)
+      if (k->kind == kind) return &folder;
+    return nullptr;
+  };
+  const std::string* lightmap = given(BakedKind::kLightmap);
+  const std::string* prt = given(BakedKind::kPrt);
+  if (lightmap && prt)
+    throw Error(fmt::format(
+        "--baked {} (light-map) and --baked {} (PRT): each puts its own atlas on uv1 and "
+        "holds the static surfaces' light; show one of them",
+        *lightmap, *prt));
+
+  BakedDisplay display;
+  if (lightmap)
+    display.lightmap =
+        realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(*lightmap));
+  if (prt) {
+    bake::PrtSet set = bake::load_prt_set(*prt);
+    bake::apply_prt_set(scene, set);
+    // The transfer holds the light of the add-on's sun (direct and bounced): the scene's own
+    // lights would count it twice. Emitters still glow through their materials.
+    scene.lights.clear();
+    display.prt = prt_transfer(scene, std::move(set));
+  }
+  return display;
+}
+
+}  // namespace illum::cli

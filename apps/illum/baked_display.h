@@ -1,0 +1,36 @@
+// The bake folders `illum frame` and `illum view` show: `--baked DIR` (repeatable; `--lightmap
+// DIR` is the same option) reads each folder's manifest, tells its kind and prepares the
+// matching display of the `baked` add-on. Kinds, told by the manifest the folder holds:
+//   lightmap.json  light-map (atlas/lightmap_file.h)  → Renderer::set_lightmap
+//   prt.json       PRT transfer (bake/prt_file.h)     → Renderer::set_prt
+// A new kind (irradiance probes) is one more entry in kBakedKinds (baked_display.cpp) with
+// its loader, and one more member here.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "illum/realtime/baked_data.h"
+#include "illum/realtime/renderer.h"
+#include "illum/scene/scene.h"
+
+namespace illum::cli {
+
+struct BakedDisplay {
+  realtime::Lightmap lightmap;  // kind kNone: no light-map folder
+  realtime::PrtTransfer prt;    // empty: no PRT folder
+  bool any() const { return lightmap.kind != realtime::LightmapKind::kNone || !prt.empty(); }
+  // Hands the data to a renderer built from the prepared scene (switches `baked` on).
+  void show(realtime::Renderer& renderer) const;
+};
+
+// Loads `folders` (one of each kind at most), checks each was baked for `scene` (triangle
+// count, then geometry hash: bake identity), puts its atlas on `scene` and removes the
+// scene's lights the bake already holds (a light-map: as prepare_lightmap_display; PRT: all of
+// them, the add-on's sun lights it). Throws Error — one line naming the folder — for a folder
+// of no or an unknown kind, a malformed one, a second folder of one kind, a light-map and a
+// PRT folder together (each puts its own atlas on uv1), or a bake of another scene; `scene`
+// is left as it was then.
+BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& folders);
+
+}  // namespace illum::cli
