@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "illum/atlas/lightmap_file.h"
+#include "illum/bake/probe_file.h"
+#include "illum/bake/probe_lookup.h"
 #include "illum/bake/prt_file.h"
 #include "illum/core/error.h"
 #include "illum/realtime/baked_lightmap.h"
@@ -17,7 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class BakedKind { kLightmap, kPrt };
+enum class BakedKind { kLightmap, kPrt, kProbes };
 
 struct BakedKindInfo {
   BakedKind kind;
@@ -29,6 +31,7 @@ struct BakedKindInfo {
 constexpr BakedKindInfo kBakedKinds[] = {
     {BakedKind::kLightmap, "light-map", "lightmap.json"},
     {BakedKind::kPrt, "PRT", "prt.json"},
+    {BakedKind::kProbes, "probes", "probes.json"},
 };
 
 std::string known_manifests() {
@@ -103,6 +106,7 @@ realtime::PrtTransfer prt_transfer(const Scene& scene, bake::PrtSet set) {
 void BakedDisplay::show(realtime::Renderer& renderer) const {
   if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
   if (!prt.empty()) renderer.set_prt(prt);
+  if (!probes.instances.empty()) renderer.set_ambient_cubes(probes);
 }
 
 BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& folders) {
@@ -130,6 +134,22 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
         *lightmap, *prt));
 
   BakedDisplay display;
+  // Probes first: they were baked for the scene's static part as loaded, before any atlas
+  // (which changes the meshes the geometry hash covers) is put on it.
+  if (const std::string* probes = given(BakedKind::kProbes)) {
+    const bake::ProbeCubeGrid grid =
+        bake::probe_cube_grid(bake::load_probe_set_for(*probes, scene), scene);
+    if (grid.instances.empty())
+      throw Error(
+          fmt::format("--baked {}: probes light only meshes marked \"dynamic\": true, and "
+                      "scene '{}' marks none",
+                      *probes, scene.name));
+    display.probes.size = grid.size;
+    display.probes.origin = grid.origin;
+    display.probes.spacing = grid.spacing;
+    display.probes.cubes = grid.cubes;
+    display.probes.instances = grid.instances;
+  }
   if (lightmap)
     display.lightmap =
         realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(*lightmap));

@@ -3,8 +3,10 @@
 // matching display of the `baked` add-on. Kinds, told by the manifest the folder holds:
 //   lightmap.json  light-map (atlas/lightmap_file.h)  → Renderer::set_lightmap
 //   prt.json       PRT transfer (bake/prt_file.h)     → Renderer::set_prt
-// A new kind (irradiance probes) is one more entry in kBakedKinds (baked_display.cpp) with
-// its loader, and one more member here.
+//   probes.json    irradiance probes (bake/probe_file.h) → Renderer::set_ambient_cubes, for
+//                  the instances marked "dynamic": true (bake/probe_lookup.h probe_cube_grid)
+// A new kind is one more entry in kBakedKinds (baked_display.cpp) with its loader, and one
+// more member here.
 #pragma once
 
 #include <string>
@@ -17,9 +19,13 @@
 namespace illum::cli {
 
 struct BakedDisplay {
-  realtime::Lightmap lightmap;  // kind kNone: no light-map folder
-  realtime::PrtTransfer prt;    // empty: no PRT folder
-  bool any() const { return lightmap.kind != realtime::LightmapKind::kNone || !prt.empty(); }
+  realtime::Lightmap lightmap;       // kind kNone: no light-map folder
+  realtime::PrtTransfer prt;         // empty: no PRT folder
+  realtime::AmbientCubeGrid probes;  // no instances: no probe folder
+  bool any() const {
+    return lightmap.kind != realtime::LightmapKind::kNone || !prt.empty() ||
+           !probes.instances.empty();
+  }
   // Hands the data to a renderer built from the prepared scene (switches `baked` on).
   void show(realtime::Renderer& renderer) const;
 };
@@ -29,8 +35,9 @@ struct BakedDisplay {
 // scene's lights the bake already holds (a light-map: as prepare_lightmap_display; PRT: all of
 // them, the add-on's sun lights it). Throws Error — one line naming the folder — for a folder
 // of no or an unknown kind, a malformed one, a second folder of one kind, a light-map and a
-// PRT folder together (each puts its own atlas on uv1), or a bake of another scene; `scene`
-// is left as it was then.
+// PRT folder together (each puts its own atlas on uv1), a bake of another scene, or probes for
+// a scene that marks no instance dynamic; `scene` is left as it was then. Probes combine with
+// either of the others (they light the dynamic instances only).
 BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& folders);
 
 }  // namespace illum::cli

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "cli_fixture.h"
+#include "illum/core/image.h"
 
 namespace {
 
@@ -95,3 +96,56 @@ TEST_F(ProbesCli, RefusesBadInputWithOneLineAndWritesNothing) {
 }
 
 }  // namespace
+
+// `illum frame --baked DIR` with a probe folder: the dynamic instances take the probes'
+// ambient cubes (the frame differs from the one without them, and only on the dynamic
+// object's pixels, static surfaces unchanged); probes for a scene that marks nothing dynamic,
+// and probes baked for another scene, are refused with one line.
+TEST_F(ProbesCli, FrameShowsProbesOnDynamicObjectsOnly) {
+  // A small copy of the box inside the box, marked dynamic; the built-in scene's camera.
+  const std::string camera =
+      "\"camera\": {\"position\": [0.278, 0.273, -0.8], \"look_at\": [0.278, 0.273, 0], "
+      "\"up\": [0, 1, 0], \"fov_y_deg\": 39.3077}, ";
+  const std::string scene =
+      write("inside.illum.json",
+            "{" + camera + "\"meshes\": [{\"file\": \"" + cornell_obj() +
+                "\", \"scale\": 0.001}, {\"file\": \"" + cornell_obj() +
+                "\", \"scale\": 0.0002, \"transform\": {\"translate\": [0.2, 0.1, 0.2]}, "
+                "\"dynamic\": true}]}")
+          .string();
+  const fs::path probes = dir_ / "probes";
+  ASSERT_EQ(bake(scene, probes, "--spacing 0.1").exit_code, 0);
+  const std::string frame = " --width 48 --height 48 --frames 1 --warmup 0 -o ";
+  const Result with =
+      run("frame " + scene + " --baked " + probes.string() + frame + (dir_ / "with.exr").string());
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  const Result without = run("frame " + scene + frame + (dir_ / "without.exr").string());
+  ASSERT_EQ(without.exit_code, 0) << without.err;
+  const illum::Image a = illum::read_image((dir_ / "with.exr").string(), false);
+  const illum::Image b = illum::read_image((dir_ / "without.exr").string(), false);
+  // The same scene drawn without the dynamic object tells which pixels are static.
+  const std::string static_scene =
+      write("static.illum.json",
+            "{" + camera + "\"meshes\": [{\"file\": \"" + cornell_obj() + "\", \"scale\": 0.001}]}")
+          .string();
+  ASSERT_EQ(run("frame " + static_scene + frame + (dir_ / "static.exr").string()).exit_code, 0);
+  const illum::Image s = illum::read_image((dir_ / "static.exr").string(), false);
+  int changed_dynamic = 0, changed_static = 0;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) {
+      const bool dynamic_pixel = glm::any(glm::notEqual(b.rgb(x, y), s.rgb(x, y)));
+      const bool changed = glm::any(glm::notEqual(a.rgb(x, y), b.rgb(x, y)));
+      (dynamic_pixel ? changed_dynamic : changed_static) += changed;
+    }
+  EXPECT_GT(changed_dynamic, 10) << "the probes did not reach the dynamic object";
+  EXPECT_EQ(changed_static, 0) << "the probes changed static surfaces";
+
+  expect_bad_input(run("frame " + static_scene + " --baked " + probes.string() + frame +
+                       (dir_ / "x.exr").string()),
+                   "dynamic");
+  expect_bad_input(
+      run("frame caustics --baked " + probes.string() + frame + (dir_ / "y.exr").string()),
+      probes.string());
+  EXPECT_FALSE(fs::exists(dir_ / "x.exr"));
+  EXPECT_FALSE(fs::exists(dir_ / "y.exr"));
+}
