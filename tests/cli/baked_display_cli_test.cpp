@@ -392,9 +392,9 @@ TEST_F(BakedDisplayCli, BadFoldersAreRefused) {
   refused("--baked " + (dir_ / "nowhere").string(), "the folder does not exist");
   fs::create_directories(dir_ / "empty");
   refused("--baked " + (dir_ / "empty").string(), "not a bake folder of a known kind");
-  fs::create_directories(dir_ / "probes");
-  write("probes/probes.json", "{\"format\": \"illum-probes\", \"version\": 1}");
-  refused("--baked " + (dir_ / "probes").string(), "declares format 'illum-probes'");
+  fs::create_directories(dir_ / "future");
+  write("future/volume.json", "{\"format\": \"illum-volume\", \"version\": 1}");
+  refused("--baked " + (dir_ / "future").string(), "declares format 'illum-volume'");
 
   // Copies of the PRT folder with one thing broken.
   const auto broken = [&](const std::string& name, const std::string& from, const std::string& to) {
