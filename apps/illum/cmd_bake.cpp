@@ -3,6 +3,7 @@
 // writes the folder `illum frame --lightmap` and
 // `illum view --lightmap` read (format: atlas/lightmap_file.h).
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -12,6 +13,7 @@
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/lightmap_file.h"
 #include "illum/atlas/texel_raster.h"
+#include "illum/bake/bake_memory.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
 #include "illum/bake/probe_baker.h"
@@ -165,11 +167,22 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   if (radiosity && (args.spp_given || args.bounces_given))
     throw Error(fmt::format("{} applies to --method path, not radiosity",
                             args.spp_given ? "--spp" : "--bounces"));
-  if (!radiosity && (args.threshold_given || args.time_given))
-    throw Error(fmt::format("{} applies to --method radiosity, not path",
-                            args.threshold_given ? "--threshold" : "--time"));
+  if (!radiosity && args.threshold_given)
+    throw Error("--threshold applies to --method radiosity, not path");
+  if (args.time_given && !(args.time_s >= 0.0 && std::isfinite(args.time_s)))
+    throw Error(fmt::format("--time {}: must be a number of seconds >= 0", args.time_s));
+  // The path baker stops between passes that double every texel's samples (bake/
+  // lightmap_baker.h), so the samples it may end at are the powers of two up to --spp.
+  if (!radiosity && args.time_s > 0.0 && (args.spp & (args.spp - 1)) != 0)
+    throw Error(
+        fmt::format("--spp {} with --time: must be a power of two (the path bake stops "
+                    "between passes of 1, 2, 4, ... samples per texel)",
+                    args.spp));
   refuse_with_several_ranks(radiosity, "bake --method radiosity",
                             "progressive shooting is one sequential loop over every patch");
+  refuse_with_several_ranks(args.time_s > 0.0, fmt::format("--time {}", args.time_s),
+                            "the samples taken in the time would depend on the ranks; give "
+                            "--spp instead");
 
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"resolution", "--resolution"},
@@ -203,6 +216,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   } else {
     bake_options = bake::LightmapBakeOptions::from_params(params);
     bake_options.threads = threads;
+    bake_options.time_budget_s = args.time_s;
     extras_options.dilate = bake_options.dilate;
   }
   params.check_all_used();
@@ -215,6 +229,21 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   atlas::make_meshes_unique(scene);
   atlas::LightmapSet set;
   set.atlas = atlas::build_atlas(scene, atlas_options);
+  {
+    // Before the raster and the bake allocate per texel: a bake the machine cannot hold is
+    // refused with the estimate rather than killed an hour later (bake/bake_memory.h).
+    bake::BakeMemoryInput memory;
+    memory.atlas_texels = int64_t(set.atlas.width) * set.atlas.height;
+    memory.chart_texels = bake::chart_texel_bound(set.atlas);
+    memory.layers = bake::layer_count(radiosity ? radiosity_options.basis : bake_options.basis);
+    memory.extra_maps = (extras_options.ao ? 1 : 0) + (extras_options.obscurance ? 2 : 0) +
+                        (extras_options.bent_normal ? 1 : 0);
+    memory.radiosity = radiosity;
+    memory.denoise = !radiosity && bake_options.denoise;
+    memory.timed = !radiosity && args.time_s > 0.0;
+    memory.scene_triangles = static_cast<int64_t>(scene_triangles);
+    bake::check_bake_memory(bake::estimate_bake_memory(memory), bake::machine_memory());
+  }
   atlas::apply_atlas(scene, set.atlas);
   const double atlas_s = seconds_since(t0);
 
@@ -223,6 +252,13 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   const atlas::TexelRaster raster =
       atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
   const double raster_s = seconds_since(t0);
+  // The loader drops zero-area triangles and the raster skips any left: a scene of nothing
+  // else would give an empty folder that every reader shows as black.
+  if (raster.covered() == 0)
+    throw Error(fmt::format(
+        "{}: nothing to bake: no triangle with area covers a texel of the "
+        "{}x{} atlas ({} triangles, {} charts)",
+        args.scene, set.atlas.width, set.atlas.height, scene_triangles, set.atlas.chart_count));
 
   log::release();  // the input is checked: the load's warnings may show now
   bake::LightmapBake baked;
@@ -282,14 +318,20 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"initial_power", radiosity_baked.initial_power},
                 {"remaining_power", radiosity_baked.remaining_power},
                 {"converged", radiosity_baked.converged}};
-  else
+  else {
     set.bake = {{"method", "path"},
-                {"spp", bake_options.spp},
+                {"spp", baked.spp},  // samples taken per texel
                 {"max_bounces", bake_options.max_bounces},
                 {"seed", bake_options.seed},
                 {"dilate", bake_options.dilate},
                 {"denoise", baked.denoised},
                 {"denoise_strength", bake_options.denoise_strength}};
+    if (args.time_s > 0.0)
+      set.bake.update(nlohmann::json{{"spp_requested", bake_options.spp},
+                                     {"time_budget", args.time_s},
+                                     {"passes", baked.passes},
+                                     {"stopped_by_time", baked.stopped_by_time}});
+  }
   set.bake.update(nlohmann::json{{"texels", baked.texels},
                                  {"occupancy", occupancy},
                                  {"rays", baked.rays},
@@ -312,7 +354,10 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                   ? radiosity_baked.remaining_power / radiosity_baked.initial_power
                                   : 0.0,
                               radiosity_baked.converged ? "" : " (stopped by --time)")
-                : fmt::format("{} spp", bake_options.spp);
+                : fmt::format("{} spp{}", baked.spp,
+                              baked.stopped_by_time
+                                  ? fmt::format(" of {} (stopped by --time)", bake_options.spp)
+                                  : "");
   std::fprintf(stderr,
                "illum: bake %s, %s/%s: atlas %dx%d, %d charts, texel %.4g m, %zu texels "
                "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %s %.2fs (%.2f Mrays/s)%s "
@@ -347,8 +392,10 @@ void add_bake_command(CLI::App& app) {
       ->transform(number(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--time", args->time_s,
-                  "radiosity: stop shooting after this many seconds (0: no limit); the map "
-                  "then holds what was shot")
+                  "stop after about this many seconds (0: no limit). radiosity: stops shooting; "
+                  "the map then holds what was shot. path: bakes passes of 1, 2, 4, ... "
+                  "samples per texel up to --spp (a power of two) and skips a pass predicted "
+                  "to end past the time; the manifest records the samples taken")
       ->transform(number(0.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--basis", args->basis, "plain, rnm (3 Source basis maps) or sh (SH-L1)")

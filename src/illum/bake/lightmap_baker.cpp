@@ -1,5 +1,6 @@
 #include "illum/bake/lightmap_baker.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -139,6 +140,15 @@ void validate(const LightmapBakeOptions& o) {
         fmt::format("light-map bake: dilate = {} must lie in [0, {}]", o.dilate, kMaxDilate));
   if (o.threads < 0)
     throw Error(fmt::format("light-map bake: threads = {} must be ≥ 0", o.threads));
+  if (!(o.time_budget_s >= 0.0) || !std::isfinite(o.time_budget_s))
+    throw Error(fmt::format("light-map bake: time budget {} s must be ≥ 0", o.time_budget_s));
+  if (o.time_budget_s > 0.0 && (o.spp & (o.spp - 1)) != 0)
+    throw Error(fmt::format(
+        "light-map bake: spp = {} with a time budget must be a power of two (the bake stops "
+        "between passes that double the samples per texel)",
+        o.spp));
+  if (o.time_budget_s > 0.0 && work_split_ranks() > 1)
+    throw Error("light-map bake: a time budget cannot be split across MPI ranks");
   if (!(o.denoise_strength >= kMinDenoiseStrength && o.denoise_strength <= kMaxDenoiseStrength))
     throw Error(fmt::format("light-map bake: denoise_strength = {} must lie in [{}, {}]",
                             o.denoise_strength, kMinDenoiseStrength, kMaxDenoiseStrength));
@@ -220,10 +230,70 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   const bool skip_delta = options.content == LightmapContent::kIndirect;
 
   const int64_t count = static_cast<int64_t>(raster.samples.size());
-  const int batches = variance_batches(options.spp);
-  Progress progress("bake", count, options.progress && Progress::stderr_is_terminal());
+  const bool timed = options.time_budget_s > 0.0;
+  Progress progress("bake", timed ? count * int64_t(options.spp) : count,
+                    options.progress && Progress::stderr_is_terminal());
   std::atomic<int64_t> total_rays{0}, dropped{0};
-  const double inv_spp = 1.0 / static_cast<double>(options.spp);
+
+  // A texel's running sums: the layers' and, per variance run, the guide luminance's.
+  struct TexelSums {
+    glm::dvec3 sum[kMaxLayers];
+    double batch_sum[kMaxBatches];
+  };
+  // Adds samples [first, end) of texel i's sequence to `sums`; the runs are those of a bake
+  // of `end` samples (sample k in run ⌊k·K/end⌋). Stops early only on Ctrl-C.
+  const auto add_samples = [&](int64_t i, int first, int end, TexelSums& sums, int64_t* rays,
+                               int64_t* dropped_samples) {
+    const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+    const TexelVertex v(s, options.basis);
+    const int batches = variance_batches(end);
+    // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's value
+    // depends only on (seed, x, y, spp), never on scheduling or on the passes.
+    SobolSampler sampler(
+        hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
+    float w[kMaxLayers] = {};
+    for (int k = first; k < end; ++k) {
+      // Texels of a million samples take seconds: poll Ctrl-C inside them too.
+      if ((k & 1023) == 1023 && interrupt_requested()) break;
+      sampler.start_sample(static_cast<uint32_t>(k));
+      Color estimate[kMaxLayers] = {};
+      // The dimensions are drawn in the path tracer's order at a vertex: light
+      // choice, light point, lobe, direction, roulette.
+      const float u_light = sampler.next_1d();
+      const vec2 u_point = sampler.next_2d();
+      const std::optional<DirectLightSample> d = transport.sample_direct(
+          v.p, v.ng, u_light, u_point, skip_delta, [&](const vec3& wi) { return v.valid(wi); },
+          [&](const vec3& wi) { return v.pdf(wi); }, rays);
+      if (d) {
+        v.weights(d->wi, w);
+        const float scale = d->mis_weight / d->pdf;
+        for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
+      }
+      const float u_lobe = sampler.next_1d();
+      const vec2 u_dir = sampler.next_2d();
+      (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
+      const vec3 wi = v.sample(u_lobe, u_dir);
+      const float pdf = v.pdf(wi);
+      if (pdf > 0.0f) {
+        const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
+        const Color li = transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, rays);
+        v.weights(wi, w);
+        for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
+      }
+      bool finite = true;
+      for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
+      if (!finite) {
+        ++*dropped_samples;
+        continue;
+      }
+      double g = 0.0;
+      for (int j = 0; j < layers; ++j) {
+        sums.sum[j] += glm::dvec3(estimate[j]);
+        g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
+      }
+      sums.batch_sum[static_cast<int64_t>(k) * batches / end] += g;
+    }
+  };
 
   // One texel's result: what the root needs to fill the maps, and the counts.
   struct TexelRecord {
@@ -232,78 +302,111 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
     int64_t rays;
     int64_t dropped;
   };
-  // Texels are independent (one sampler each), so they are split across MPI ranks when the
-  // run has several (core/work_split.h) with the same values as in one process; the
-  // denoiser and dilation below read neighbours and run after every texel is in.
-  split_items<TexelRecord>(
-      count, 16,
-      [&](int64_t i) {
-        TexelRecord record{};
-        if (interrupt_requested()) return record;  // Ctrl-C: finish quickly, throw below
-        const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-        const TexelVertex v(s, options.basis);
-        // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's
-        // value depends only on (seed, x, y, spp), never on scheduling.
-        SobolSampler sampler(
-            hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
-        glm::dvec3 sum[kMaxLayers] = {};
-        double batch_sum[kMaxBatches] = {};
-        float w[kMaxLayers] = {};
-        for (int k = 0; k < options.spp; ++k) {
-          // Texels of a million samples take seconds: poll Ctrl-C inside them too.
-          if ((k & 1023) == 1023 && interrupt_requested()) break;
-          sampler.start_sample(static_cast<uint32_t>(k));
-          Color estimate[kMaxLayers] = {};
-          // The dimensions are drawn in the path tracer's order at a vertex: light
-          // choice, light point, lobe, direction, roulette.
-          const float u_light = sampler.next_1d();
-          const vec2 u_point = sampler.next_2d();
-          const std::optional<DirectLightSample> d = transport.sample_direct(
-              v.p, v.ng, u_light, u_point, skip_delta, [&](const vec3& wi) { return v.valid(wi); },
-              [&](const vec3& wi) { return v.pdf(wi); }, &record.rays);
-          if (d) {
-            v.weights(d->wi, w);
-            const float scale = d->mis_weight / d->pdf;
-            for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
+  const auto finish_texel = [&](const TexelSums& sums, int spp, TexelRecord& record) {
+    const double inv_spp = 1.0 / static_cast<double>(spp);
+    for (int j = 0; j < layers; ++j) record.layer[j] = Color(sums.sum[j] * inv_spp);
+    record.variance =
+        static_cast<float>(batch_variance(sums.batch_sum, variance_batches(spp), spp));
+  };
+  const auto store_texel = [&](int64_t i, const TexelRecord& record) {
+    const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+    for (int j = 0; j < layers; ++j)
+      bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
+    bake.variance.pixel(s.x, s.y)[0] = record.variance;
+    total_rays += record.rays;
+    if (record.dropped) dropped += record.dropped;
+  };
+
+  if (!timed) {
+    // Texels are independent (one sampler each), so they are split across MPI ranks when the
+    // run has several (core/work_split.h) with the same values as in one process; the
+    // denoiser and dilation below read neighbours and run after every texel is in.
+    split_items<TexelRecord>(
+        count, 16,
+        [&](int64_t i) {
+          TexelRecord record{};
+          if (interrupt_requested()) return record;  // Ctrl-C: finish quickly, throw below
+          TexelSums sums{};
+          add_samples(i, 0, options.spp, sums, &record.rays, &record.dropped);
+          finish_texel(sums, options.spp, record);
+          return record;
+        },
+        [&](int64_t i, const TexelRecord& record) {
+          store_texel(i, record);
+          progress.advance(1);
+        });
+    bake.spp = options.spp;
+  } else {
+    // Passes to 1, 2, 4, … samples per texel. Every texel keeps its sums between passes and
+    // continues its own sequence, so a texel's sums after the pass to N are exactly those of
+    // a bake at spp = N; a power-of-two prefix of the Sobol' sequence is a complete net, so
+    // the estimate where the bake stops keeps the stratification of a planned one. Only the
+    // variance runs change with N: at N → 2N the old runs (sample ranges aligned to powers
+    // of two) merge into the new ones that contain them.
+    std::vector<TexelSums> sums(static_cast<size_t>(count), TexelSums{});
+    bake.passes = 0;
+    int done = 0;
+    double last_pass_s = 0.0;
+    int last_pass_samples = 0;
+    while (done < options.spp) {
+      const int end = done == 0 ? 1 : 2 * done;
+      const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (done > 0 && elapsed + last_pass_s * double(end - done) / double(last_pass_samples) >
+                          options.time_budget_s) {
+        bake.stopped_by_time = true;
+        break;
+      }
+      if (done > 0) {
+        const int old_batches = variance_batches(done), new_batches = variance_batches(end);
+        for (TexelSums& t : sums) {
+          double merged[kMaxBatches] = {};
+          for (int b = 0; b < old_batches; ++b) {
+            const int64_t first = (int64_t(b) * done + old_batches - 1) / old_batches;
+            merged[first * new_batches / end] += t.batch_sum[b];
           }
-          const float u_lobe = sampler.next_1d();
-          const vec2 u_dir = sampler.next_2d();
-          (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
-          const vec3 wi = v.sample(u_lobe, u_dir);
-          const float pdf = v.pdf(wi);
-          if (pdf > 0.0f) {
-            const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
-            const Color li =
-                transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, &record.rays);
-            v.weights(wi, w);
-            for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
-          }
-          bool finite = true;
-          for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
-          if (!finite) {
-            ++record.dropped;
-            continue;
-          }
-          double g = 0.0;
-          for (int j = 0; j < layers; ++j) {
-            sum[j] += glm::dvec3(estimate[j]);
-            g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
-          }
-          batch_sum[static_cast<int64_t>(k) * batches / options.spp] += g;
+          std::copy(merged, merged + kMaxBatches, t.batch_sum);
         }
-        for (int j = 0; j < layers; ++j) record.layer[j] = Color(sum[j] * inv_spp);
-        record.variance = static_cast<float>(batch_variance(batch_sum, batches, options.spp));
-        return record;
-      },
-      [&](int64_t i, const TexelRecord& record) {
-        const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-        for (int j = 0; j < layers; ++j)
-          bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
-        bake.variance.pixel(s.x, s.y)[0] = record.variance;
-        total_rays += record.rays;
-        if (record.dropped) dropped += record.dropped;
-        progress.advance(1);
-      });
+      }
+      const auto pass_start = std::chrono::steady_clock::now();
+      parallel_for(
+          count,
+          [&](int64_t begin, int64_t stop) {
+            int64_t rays = 0, dropped_samples = 0;
+            for (int64_t i = begin; i < stop && !interrupt_requested(); ++i) {
+              add_samples(i, done, end, sums[static_cast<size_t>(i)], &rays, &dropped_samples);
+              progress.advance(end - done);
+            }
+            total_rays += rays;
+            dropped += dropped_samples;
+          },
+          16);
+      if (interrupt_requested()) break;
+      last_pass_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
+      last_pass_samples = end - done;
+      done = end;
+      ++bake.passes;
+    }
+    bake.spp = done;
+    if (!interrupt_requested())
+      parallel_for(
+          count,
+          [&](int64_t begin, int64_t stop) {
+            for (int64_t i = begin; i < stop; ++i) {
+              TexelRecord record{};
+              finish_texel(sums[static_cast<size_t>(i)], done, record);
+              const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+              for (int j = 0; j < layers; ++j)
+                bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
+              bake.variance.pixel(s.x, s.y)[0] = record.variance;
+            }
+          },
+          256);
+    if (bake.stopped_by_time)
+      log::info("bake: stopped by the {:.3g}s budget after {} of {} samples per texel",
+                options.time_budget_s, done, options.spp);
+  }
   if (interrupt_requested()) {
     progress.finish();
     throw Interrupted{};

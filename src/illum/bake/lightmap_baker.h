@@ -46,6 +46,15 @@ struct LightmapBakeOptions {
   float denoise_strength = 3.0f;
   int threads = 0;       // 0 = all cores
   bool progress = true;  // progress bar with ETA on a terminal
+  // Wall-clock budget in seconds (0 = none; the CLI's --time). With a budget the texels are
+  // baked in passes that double every texel's sample count (1, 2, 4, … up to spp, which
+  // must then be a power of two) and the bake stops before a pass whose predicted duration
+  // (the previous pass's, scaled by its sample count) would end past the budget. The first
+  // pass always runs. A budget that is never reached gives the raw layers of the bake
+  // without one bit for bit (the same sums in the same order); the variance runs are summed
+  // in another order, so the variance, and through it a denoised map, agree to rounding.
+  // Refused across several MPI ranks (the passes would depend on the ranks).
+  double time_budget_s = 0.0;
 
   // Keys: basis, content, spp (1..1<<20), max_bounces (0..1024), dilate (0..64), seed,
   // denoise (bool, default true), denoise_strength (0.1..100). Throws Error for
@@ -68,6 +77,9 @@ struct LightmapBake {
   double seconds = 0.0;
   int64_t rays = 0;
   size_t texels = 0;  // covered texels baked
+  int spp = 0;        // samples taken per texel: options.spp, or fewer when stopped by time
+  bool stopped_by_time = false;
+  int passes = 1;  // sample passes baked (1 without a time budget)
 };
 
 // Bakes every covered texel of `raster` (made from `scene`, whose meshes carry uv1),
