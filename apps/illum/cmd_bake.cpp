@@ -14,6 +14,7 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/probe_baker.h"
 #include "illum/bake/probe_file.h"
 #include "illum/bake/prt_baker.h"
@@ -220,8 +221,9 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
 
   t0 = std::chrono::steady_clock::now();
   const RayTracer tracer(scene);
-  const atlas::TexelRaster raster =
-      atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  atlas::TexelRaster raster = atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  // Samples inside or behind geometry would leak light (bake/lightmap_seams.h).
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
   const double raster_s = seconds_since(t0);
 
   log::release();  // the input is checked: the load's warnings may show now
@@ -295,6 +297,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                  {"rays", baked.rays},
                                  {"atlas_seconds", atlas_s},
                                  {"raster_seconds", raster_s},
+                                 {"texels_pushed_out", pushed.moved},
+                                 {"texels_rejected", pushed.rejected},
                                  {"bake_seconds", baked.seconds},
                                  {"denoise_seconds", baked.denoise_seconds}});
   if (extras_options.any()) {
