@@ -16,6 +16,7 @@
 #include "illum/bake/bake_memory.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/probe_baker.h"
 #include "illum/bake/probe_file.h"
 #include "illum/bake/prt_baker.h"
@@ -249,8 +250,9 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
 
   t0 = std::chrono::steady_clock::now();
   const RayTracer tracer(scene);
-  const atlas::TexelRaster raster =
-      atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  atlas::TexelRaster raster = atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  // Samples inside or behind geometry would leak light (bake/lightmap_seams.h).
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
   const double raster_s = seconds_since(t0);
   // The loader drops zero-area triangles and the raster skips any left: a scene of nothing
   // else would give an empty folder that every reader shows as black.
@@ -337,6 +339,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                  {"rays", baked.rays},
                                  {"atlas_seconds", atlas_s},
                                  {"raster_seconds", raster_s},
+                                 {"texels_pushed_out", pushed.moved},
+                                 {"texels_rejected", pushed.rejected},
                                  {"bake_seconds", baked.seconds},
                                  {"denoise_seconds", baked.denoise_seconds}});
   if (extras_options.any()) {

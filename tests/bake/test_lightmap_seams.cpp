@@ -1,0 +1,277 @@
+// Seams and leaks (bake/lightmap_seams.h): texel samples pushed out of geometry (two rooms
+// and a 5 cm wall, the floor continuous under it).
+//
+// ILLUM_SEAMS_IMAGES=DIR writes the figures of docs/lightmaps.md (Seams and leaks) there.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "../render/render_test_scenes.h"
+#include "illum/atlas/atlas.h"
+#include "illum/atlas/texel_raster.h"
+#include "illum/bake/lightmap_baker.h"
+#include "illum/bake/lightmap_seams.h"
+#include "illum/bake/radiosity_baker.h"
+#include "illum/core/image.h"
+#include "illum/trace/ray_tracer.h"
+
+namespace illum {
+namespace {
+
+using test::add_material;
+using test::add_triangles;
+using test::inward_box;
+
+constexpr float kHalfWall = 0.025f;  // the wall is 5 cm thick, centred on x = 0
+constexpr float kTexel = 0.042f;     // world size of a texel on every (planar) chart
+
+// Two rooms [−1, 0] and [0, 1] (x) × [0, 1] × [−0.5, 0.5]; the room box is one mesh, so its
+// floor, ceiling and side walls run on under the closed 5 cm wall between the rooms. A
+// point light in the room at x > 0. Charted at 4.2 cm per texel: the floor and ceiling get
+// an even number (48) of texels across, symmetric about x = 0, so texel centres fall at
+// ±2.1 cm, inside the wall (checked below, so an atlas change cannot quietly lose them).
+struct TwoRooms {
+  TwoRooms() {
+    scene.name = "two-rooms";
+    Material m;
+    m.albedo = Color(0.5f);
+    const int mat = add_material(scene, m);
+    room = add_triangles(scene, inward_box(vec3(-1.0f, 0.0f, -0.5f), vec3(1.0f, 1.0f, 0.5f)), mat,
+                         "room");
+    add_triangles(scene,
+                  inward_box(vec3(-kHalfWall, 0.0f, -0.5f), vec3(kHalfWall, 1.0f, 0.5f), false),
+                  mat, "wall");
+    Light light;
+    light.type = LightType::kPoint;
+    light.position = vec3(0.5f, 0.7f, 0.1f);
+    light.intensity = Color(1.0f);
+    scene.lights.push_back(light);
+    atlas::make_meshes_unique(scene);
+    atlas::AtlasOptions options;
+    options.resolution = 128;
+    options.texel_size = kTexel;
+    const atlas::Atlas a = atlas::build_atlas(scene, options);
+    atlas::apply_atlas(scene, a);
+    tracer = std::make_unique<RayTracer>(scene);
+    raster = atlas::rasterize_texels(scene, a.width, a.height);
+  }
+  Scene scene;
+  int room = 0;
+  std::unique_ptr<RayTracer> tracer;
+  atlas::TexelRaster raster;
+};
+
+bake::LightmapBakeOptions path_options() {
+  bake::LightmapBakeOptions o;
+  o.spp = 16;
+  o.max_bounces = 2;  // the leak needs one bounce (off the wall's inner faces)
+  o.progress = false;
+  return o;
+}
+
+// Texels whose centre (the raster's own sample point, before any push-out) lies in the
+// dark half x < 0: the dark room and the dark half of the wall's footprint.
+std::vector<uint8_t> dark_half(const atlas::TexelRaster& raster) {
+  std::vector<uint8_t> dark(raster.sample_of.size(), 0);
+  for (const atlas::TexelSample& s : raster.samples)
+    dark[size_t(s.y) * size_t(raster.width) + size_t(s.x)] = s.position.x < 0.0f ? 1 : 0;
+  return dark;
+}
+
+double max_over(const Image& image, const std::vector<uint8_t>& mask) {
+  double m = 0.0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (mask[size_t(y) * size_t(image.width()) + size_t(x)])
+        m = std::max(m, double(max_component(image.rgb(x, y))));
+  return m;
+}
+
+// The floor's light-map seen from above, x ∈ [−0.4, 0.4] (wall in the middle), z ∈ [−½, ½],
+// each pixel a bilinear lookup at the floor point's uv1 (what the renderer shows), scaled
+// up for the figure.
+Image floor_view(const Scene& scene, int room, const Image& map) {
+  const Instance& inst = scene.instances[size_t(room)];
+  const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+  const int w = 320, h = 400;
+  Image out(w, h, 3);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const float x = -0.4f + 0.8f * (float(i) + 0.5f) / float(w);
+      const float z = -0.5f + (float(j) + 0.5f) / float(h);
+      for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const vec3& a = mesh.positions[mesh.indices[3 * t]];
+        const vec3& b = mesh.positions[mesh.indices[3 * t + 1]];
+        const vec3& c = mesh.positions[mesh.indices[3 * t + 2]];
+        if (a.y != 0.0f || b.y != 0.0f || c.y != 0.0f) continue;
+        const float det = (b.x - a.x) * (c.z - a.z) - (c.x - a.x) * (b.z - a.z);
+        const float b1 = ((x - a.x) * (c.z - a.z) - (c.x - a.x) * (z - a.z)) / det;
+        const float b2 = ((b.x - a.x) * (z - a.z) - (x - a.x) * (b.z - a.z)) / det;
+        if (b1 < 0.0f || b2 < 0.0f || b1 + b2 > 1.0f) continue;
+        const vec2 uv = (1.0f - b1 - b2) * mesh.uv1[mesh.indices[3 * t]] +
+                        b1 * mesh.uv1[mesh.indices[3 * t + 1]] +
+                        b2 * mesh.uv1[mesh.indices[3 * t + 2]];
+        out.set_rgb(i, j, map.sample_bilinear(uv.x, uv.y));
+        break;
+      }
+    }
+  return out;
+}
+
+void write_figure(const std::string& name, const Image& image) {
+  const char* dir = std::getenv("ILLUM_SEAMS_IMAGES");
+  if (!dir) return;
+  ImageWriteOptions o;
+  o.exposure = 1.0f;
+  write_image(std::string(dir) + "/" + name, image, o);
+}
+
+// The dark room has no light path to the light: the wall is closed and reaches floor and
+// ceiling, every shadow ray from the dark room is blocked, and no emitter is there. So its
+// true light-map is exactly 0 and every estimate of a texel whose sample point lies in it
+// is a sum of exact zeros, whatever the spp: the bound is 0, for every texel whose centre
+// lies in the dark half x < 0 (the dark room and the dark half of the wall's footprint).
+// Materials are two-sided opaque, so the inside of the closed wall is black: samples left
+// under the wall do not leak light into the dark room here, they leak *shadow* into the
+// lit room (a black texel row along the lit side of the wall, the "dark seam" of issue 12).
+// The push-out must fix that — every lit-half texel centred under the wall reads > 0 after
+// (the point light is in plain view of the wall's foot, so each sample's next-event
+// estimate is positive) and exactly 0 before — without pushing dark-half samples to the
+// lit side, which the dark-room bound catches.
+TEST(LightmapSeams, NoLightLeaksThroughAThinWall) {
+  TwoRooms rooms;
+  const atlas::TexelRaster& before = rooms.raster;
+  int under_wall_dark = 0, under_wall_lit = 0;
+  std::vector<uint8_t> lit_under_wall(before.sample_of.size(), 0);
+  for (const atlas::TexelSample& s : before.samples) {
+    if (s.instance != rooms.room || std::abs(s.position.x) >= kHalfWall) continue;
+    (s.position.x < 0.0f ? under_wall_dark : under_wall_lit)++;
+    // The floor's texels on the lit half (the ceiling's are lit only by bounces).
+    if (s.position.x > 0.0f && s.position.y == 0.0f)
+      lit_under_wall[size_t(s.y) * size_t(before.width) + size_t(s.x)] = 1;
+  }
+  ASSERT_GT(under_wall_dark, 0) << "no texel centre under the wall: the scene tests nothing";
+  ASSERT_GT(under_wall_lit, 0);
+  const std::vector<uint8_t> dark = dark_half(before);
+
+  atlas::TexelRaster after = before;
+  const bake::TexelPushOut pushed =
+      bake::keep_texels_out_of_geometry(rooms.scene, *rooms.tracer, after);
+  std::printf(
+      "texel centres under the wall: %d dark half, %d lit half; moved %lld, rejected %lld\n",
+      under_wall_dark, under_wall_lit, static_cast<long long>(pushed.moved),
+      static_cast<long long>(pushed.rejected));
+  EXPECT_GE(pushed.moved, under_wall_dark + under_wall_lit);
+  // No sample is left strictly inside the wall, and every moved one stays on its plane,
+  // within its texel (the push is at most h + 0.01 h).
+  for (size_t i = 0; i < after.samples.size(); ++i) {
+    const atlas::TexelSample& s = after.samples[i];
+    if (s.instance == rooms.room) {
+      EXPECT_FALSE(std::abs(s.position.x) < kHalfWall)
+          << "texel (" << s.x << ", " << s.y << ") still at x = " << s.position.x;
+    }
+    const int32_t j = before.at(s.x, s.y);
+    ASSERT_GE(j, 0);
+    const vec3 d = s.position - before.samples[size_t(j)].position;
+    EXPECT_LE(glm::length(d), 1.01f * kTexel * 1.0001f);
+    EXPECT_NEAR(glm::dot(d, s.geometric_normal), 0.0f, 1e-5f);
+  }
+
+  const bake::LightmapBake unfixed =
+      bake::bake_lightmap(rooms.scene, *rooms.tracer, before, path_options());
+  const bake::LightmapBake fixed =
+      bake::bake_lightmap(rooms.scene, *rooms.tracer, after, path_options());
+  const double dark_before = max_over(unfixed.layers[0], dark);
+  const double dark_after = max_over(fixed.layers[0], dark);
+  double seam_before = 0.0, seam_after = kInf;
+  for (int y = 0; y < before.height; ++y)
+    for (int x = 0; x < before.width; ++x) {
+      if (!lit_under_wall[size_t(y) * size_t(before.width) + size_t(x)]) continue;
+      seam_before = std::max(seam_before, double(max_component(unfixed.layers[0].rgb(x, y))));
+      seam_after = std::min(seam_after, double(max_component(fixed.layers[0].rgb(x, y))));
+    }
+  std::printf(
+      "path: dark half max E/pi %.5f before, %.5f after; lit floor texels centred under "
+      "the wall: max %.5f before, min %.5f after\n",
+      dark_before, dark_after, seam_before, seam_after);
+  EXPECT_EQ(dark_after, 0.0);
+  EXPECT_EQ(seam_before, 0.0) << "the unfixed raster must show the dark seam";
+  EXPECT_GT(seam_after, 0.0);
+
+  // The radiosity baker reads the same raster: the same bound (every form factor from a
+  // dark patch to a lit one is blocked, direct light by its shadow ray).
+  bake::RadiosityBakeOptions ro;
+  ro.threshold = 0.05;
+  ro.progress = false;
+  const bake::RadiosityBake radiosity = bake::bake_radiosity(rooms.scene, *rooms.tracer, after, ro);
+  const double radiosity_dark = max_over(radiosity.layers[0], dark);
+  std::printf("radiosity: dark half max E/pi %.5f with push-out\n", radiosity_dark);
+  EXPECT_EQ(radiosity_dark, 0.0);
+
+  write_figure("leak_floor_before.png", floor_view(rooms.scene, rooms.room, unfixed.layers[0]));
+  write_figure("leak_floor_after.png", floor_view(rooms.scene, rooms.room, fixed.layers[0]));
+}
+
+// A sample on an open plane, nothing near: never moved, nothing rejected.
+TEST(LightmapSeams, LeavesFreeSamplesAlone) {
+  Scene scene;
+  Material m;
+  const int mat = add_material(scene, m);
+  std::vector<vec3> tris;
+  test::push_quad(tris, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
+  add_triangles(scene, tris, mat, "plane");
+  atlas::make_meshes_unique(scene);
+  atlas::AtlasOptions options;
+  options.resolution = 32;
+  const atlas::Atlas a = atlas::build_atlas(scene, options);
+  atlas::apply_atlas(scene, a);
+  const RayTracer tracer(scene);
+  atlas::TexelRaster raster = atlas::rasterize_texels(scene, a.width, a.height);
+  const atlas::TexelRaster before = raster;
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
+  EXPECT_EQ(pushed.moved, 0);
+  EXPECT_EQ(pushed.rejected, 0);
+  ASSERT_EQ(raster.samples.size(), before.samples.size());
+  for (size_t i = 0; i < raster.samples.size(); ++i)
+    EXPECT_EQ(raster.samples[i].position, before.samples[i].position);
+}
+
+// A texel sample inside a closed tiny box, smaller than a texel in every direction: it
+// cannot be pushed out (past one face it is still behind another) and is rejected, the
+// texel left to dilation.
+TEST(LightmapSeams, RejectsSamplesWithNoFreePosition) {
+  Scene scene;
+  Material m;
+  const int mat = add_material(scene, m);
+  std::vector<vec3> tris;
+  test::push_quad(tris, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
+  add_triangles(scene, tris, mat, "plane");
+  // A shell around the plane's centre, 2 mm high and 1 cm wide: closed on all sides, so
+  // the sample at its centre sees back faces everywhere in its plane; a second shell
+  // around it keeps the first push inside geometry.
+  add_triangles(scene,
+                inward_box(vec3(-0.005f, -0.001f, -0.005f), vec3(0.005f, 0.001f, 0.005f), false),
+                mat, "inner");
+  add_triangles(scene, inward_box(vec3(-0.02f, -0.001f, -0.02f), vec3(0.02f, 0.001f, 0.02f), false),
+                mat, "outer");
+  atlas::make_meshes_unique(scene);
+  atlas::AtlasOptions options;
+  options.resolution = 64;
+  options.texel_size = 0.1f;
+  const atlas::Atlas a = atlas::build_atlas(scene, options);
+  atlas::apply_atlas(scene, a);
+  const RayTracer tracer(scene);
+  atlas::TexelRaster raster = atlas::rasterize_texels(scene, a.width, a.height);
+  const size_t covered = raster.covered();
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
+  EXPECT_GT(pushed.rejected, 0);
+  EXPECT_EQ(raster.covered(), covered - size_t(pushed.rejected));
+  for (size_t i = 0; i < raster.samples.size(); ++i)
+    EXPECT_EQ(raster.at(raster.samples[i].x, raster.samples[i].y), int32_t(i));
+}
+
+}  // namespace
+}  // namespace illum
