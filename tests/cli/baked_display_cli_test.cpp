@@ -119,14 +119,6 @@ class BakedDisplayCli : public CliTest {
     return run("view " + scene + " " + baked + " --frames 1 --fallback-output " +
                (dir_ / "view.png").string());
   }
-  // The Cornell box as a scene file of its own, its mesh under `transform` (JSON).
-  std::string cornell_copy(const std::string& name, const std::string& transform) {
-    const std::string obj = std::string(ILLUM_DATA_DIR) + "/scenes/cornell/cornell_box.obj";
-    return write(name + ".illum.json",
-                 "{\"meshes\": [{\"file\": \"" + obj + "\", \"scale\": 0.001" +
-                     (transform.empty() ? "" : ", \"transform\": " + transform) + "}]}")
-        .string();
-  }
   static std::string recorded_hash(const fs::path& manifest) {
     std::smatch m;
     const std::string text = slurp(manifest);

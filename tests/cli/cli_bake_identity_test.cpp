@@ -18,14 +18,6 @@ using illum_cli_test::slurp;
 
 class BakeIdentity : public CliTest {
  protected:
-  // The Cornell box as a scene file of its own, its mesh under `transform` (JSON).
-  std::string cornell_copy(const std::string& name, const std::string& transform) {
-    const std::string obj = std::string(ILLUM_DATA_DIR) + "/scenes/cornell/cornell_box.obj";
-    return write(name + ".illum.json",
-                 "{\"meshes\": [{\"file\": \"" + obj + "\", \"scale\": 0.001" +
-                     (transform.empty() ? "" : ", \"transform\": " + transform) + "}]}")
-        .string();
-  }
   Result bake(const std::string& scene, const fs::path& folder, const std::string& extra = "") {
     return run("bake " + scene + " --resolution 32 --spp 1 --seed 1 " + extra + " -o " +
                folder.string());

@@ -62,6 +62,14 @@ class CliTest : public ::testing::Test {
     std::ofstream(p) << text;
     return p;
   }
+  // The Cornell box as a scene file of its own, its mesh under `transform` (JSON).
+  std::string cornell_copy(const std::string& name, const std::string& transform) {
+    const std::string obj = std::string(ILLUM_DATA_DIR) + "/scenes/cornell/cornell_box.obj";
+    return write(name + ".illum.json",
+                 "{\"meshes\": [{\"file\": \"" + obj + "\", \"scale\": 0.001" +
+                     (transform.empty() ? "" : ", \"transform\": " + transform) + "}]}")
+        .string();
+  }
   // One clear line, exit code 2, and the line mentions `needle`.
   void expect_bad_input(const Result& r, const std::string& needle) {
     EXPECT_EQ(r.exit_code, 2) << r.err;

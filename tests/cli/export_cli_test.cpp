@@ -13,14 +13,6 @@ namespace {
 
 class ExportCli : public CliTest {
  protected:
-  // The Cornell box as a scene file of its own, its mesh under `transform` (JSON).
-  std::string cornell_copy(const std::string& name, const std::string& transform) {
-    const std::string obj = std::string(ILLUM_DATA_DIR) + "/scenes/cornell/cornell_box.obj";
-    return write(name + ".illum.json",
-                 "{\"meshes\": [{\"file\": \"" + obj + "\", \"scale\": 0.001" +
-                     (transform.empty() ? "" : ", \"transform\": " + transform) + "}]}")
-        .string();
-  }
   fs::path bake(const std::string& scene, const std::string& name) {
     const fs::path folder = dir_ / name;
     const Result r =

@@ -25,14 +25,6 @@ class PrtCli : public CliTest {
                " --width 16 --height 16 --spp 1 -o " + out().string());
   }
   fs::path out() const { return dir_ / "relit.png"; }
-  // The Cornell box as a scene file of its own, its mesh under `transform` (JSON).
-  std::string cornell_copy(const std::string& name, const std::string& transform) {
-    const std::string obj = std::string(ILLUM_DATA_DIR) + "/scenes/cornell/cornell_box.obj";
-    return write(name + ".illum.json",
-                 "{\"meshes\": [{\"file\": \"" + obj + "\", \"scale\": 0.001" +
-                     (transform.empty() ? "" : ", \"transform\": " + transform) + "}]}")
-        .string();
-  }
 };
 
 TEST_F(PrtCli, BakesAndRelightsUnderASunAndAnEnvironment) {

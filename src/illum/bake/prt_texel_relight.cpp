@@ -48,7 +48,8 @@ inline void store_rgb(__m128 a, __m128 b, __m128 c, float* out) {
 // One texel of `per_texel` floats (the last block read partly: its weights are zero, and
 // `tail` copies the texel's remainder so no read passes its end).
 template <typename Load>
-__attribute__((always_inline)) inline void relight_one(const float* w, size_t per_texel, Load load, float* out) {
+__attribute__((always_inline)) inline void relight_one(const float* w, size_t per_texel, Load load,
+                                                       float* out) {
   __m128 a = _mm_setzero_ps(), b = _mm_setzero_ps(), c = _mm_setzero_ps();
   const size_t full = per_texel / 12 * 12;
   for (size_t k = 0; k < full; k += 12) {
@@ -110,8 +111,8 @@ struct LoadHalfF16c {
 // The loop itself carries the target, so the F16C loads inline into it (a lambda inside a
 // target function would not inherit the target, and would call them once per 4 halves).
 __attribute__((target("f16c"))) void relight_half_range_f16c(const uint16_t* t, int64_t begin,
-                                                              int64_t end, size_t per_texel,
-                                                              const float* w, float* out) {
+                                                             int64_t end, size_t per_texel,
+                                                             const float* w, float* out) {
   for (int64_t x = begin; x < end; ++x)
     relight_one(w, per_texel, LoadHalfF16c{t + size_t(x) * per_texel}, out + 3 * x);
 }
