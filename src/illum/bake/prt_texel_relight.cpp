@@ -1,5 +1,6 @@
 #include "illum/bake/prt_texel_relight.h"
 
+#include <cpuid.h>
 #include <immintrin.h>
 
 #include <cstring>
@@ -117,6 +118,13 @@ __attribute__((target("f16c"))) void relight_half_range_f16c(const uint16_t* t, 
     relight_one(w, per_texel, LoadHalfF16c{t + size_t(x) * per_texel}, out + 3 * x);
 }
 
+// CPUID leaf 1, ECX bit 29 (cpuid.h's bit_F16C); read directly because clang's
+// __builtin_cpu_supports does not know "f16c".
+bool has_f16c() {
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  return __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C) != 0;
+}
+
 }  // namespace
 
 float half_to_float(uint16_t h) {
@@ -175,7 +183,7 @@ void relight_texels(std::span<const uint16_t> half_transfer, int bands, const Sh
   check_sizes(half_transfer.size(), bands, out.size(), "fp16");
   const std::vector<float> w = light_weights(bands, light);
   const size_t per_texel = 3 * size_t(bands) * size_t(bands), texels = out.size() / 3;
-  if (__builtin_cpu_supports("f16c")) {
+  if (has_f16c()) {
     parallel_for(
         int64_t(texels),
         [&](int64_t begin, int64_t end) {

@@ -75,7 +75,7 @@ const SobolSampler::PairSeeds& SobolSampler::pair_seeds(int pair) {
   const uint32_t bit = 1u << static_cast<uint32_t>(pair);
   if (!(seeds_ready_ & bit)) {
     const auto p = static_cast<uint32_t>(pair);
-    seeds = {seed_for(seed32_, p, kShuffle), seed_for(seed32_, p, 0), seed_for(seed32_, p, 1)};
+    seeds = {seed_for(seed32_, p, kShuffle), {seed_for(seed32_, p, 0), seed_for(seed32_, p, 1)}};
     seeds_ready_ |= bit;
   }
   return seeds;
