@@ -97,6 +97,7 @@ TEST_F(ProbesCli, RefusesBadInputWithOneLineAndWritesNothing) {
 
 }  // namespace
 
+#ifdef ILLUM_HAVE_GPU  // `illum frame` exists only in builds with the real-time renderer
 // `illum frame --baked DIR` with a probe folder: the dynamic instances take the probes'
 // ambient cubes (the frame differs from the one without them, and only on the dynamic
 // object's pixels, static surfaces unchanged); probes for a scene that marks nothing dynamic,
@@ -149,3 +150,4 @@ TEST_F(ProbesCli, FrameShowsProbesOnDynamicObjectsOnly) {
   EXPECT_FALSE(fs::exists(dir_ / "x.exr"));
   EXPECT_FALSE(fs::exists(dir_ / "y.exr"));
 }
+#endif
