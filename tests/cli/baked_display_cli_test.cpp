@@ -263,25 +263,11 @@ TEST_F(BakedDisplayCli, PrtFrameMatchesRelightInEveryPipeline8Bands) {
 // glTF meshes, three nodes: mesh 0 twice (the second node's copy becomes mesh 2), then mesh 1
 // turned 45° so that its transfer differs — instance order 0, 1, 2 is mesh order 0, 2, 1.
 TEST_F(BakedDisplayCli, PrtVertexTransferFollowsInstancesThatShareAMesh) {
-  const float positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-  const uint16_t indices[6] = {0, 1, 2, 0, 2, 3};
-  std::string bin(reinterpret_cast<const char*>(positions), sizeof(positions));
-  bin.append(reinterpret_cast<const char*>(indices), sizeof(indices));
-  write("quad.bin", bin);
-  const std::string scene =
-      write("quads.gltf",
-            R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
-"nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0, 1.5, 0]},
-          {"mesh": 1, "translation": [1.5, 0, 0], "rotation": [0, 0.38268343, 0, 0.92387953]}],
-"meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]},
-           {"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-"buffers": [{"uri": "quad.bin", "byteLength": 60}],
-"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
-"accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-               "min": [0, 0, 0], "max": [1, 1, 0]},
-              {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})")
-          .string();
+  const std::string scene = quad_gltf(
+      "quads",
+      {R"({"mesh": 0})", R"({"mesh": 0, "translation": [0, 1.5, 0]})",
+       R"({"mesh": 1, "translation": [1.5, 0, 0], "rotation": [0, 0.38268343, 0, 0.92387953]})"},
+      2);
   const fs::path folder = dir_ / "prt";
   const Result b =
       run("bake " + scene + " --kind prt --mode unshadowed --resolution 16 --bands 3 --seed 1 -o " +

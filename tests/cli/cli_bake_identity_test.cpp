@@ -68,24 +68,9 @@ TEST_F(BakeIdentity, AnotherTransformIsAnotherScene) {
 // glTF keeps node transforms as instance transforms (the .illum.json loader above bakes a
 // mesh's transform into its vertices): two instances of one quad, the second moved 1 mm.
 TEST_F(BakeIdentity, AnotherInstanceTransformIsAnotherScene) {
-  const float positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-  const uint16_t indices[6] = {0, 1, 2, 0, 2, 3};
-  std::string bin(reinterpret_cast<const char*>(positions), sizeof(positions));
-  bin.append(reinterpret_cast<const char*>(indices), sizeof(indices));
-  write("quad.bin", bin);
   const auto gltf = [&](const std::string& name, const std::string& translation) {
-    return write(name + ".gltf",
-                 R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
-"nodes": [{"mesh": 0}, {"mesh": 0, "translation": )" +
-                     translation + R"(}],
-"meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-"buffers": [{"uri": "quad.bin", "byteLength": 60}],
-"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
-"accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-               "min": [0, 0, 0], "max": [1, 1, 0]},
-              {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})")
-        .string();
+    return quad_gltf(name,
+                     {R"({"mesh": 0})", R"({"mesh": 0, "translation": )" + translation + "}"});
   };
   const std::string a = gltf("a", "[2, 0, 0]"), b = gltf("b", "[2, 0, 0.001]");
   const fs::path lm = dir_ / "lm";

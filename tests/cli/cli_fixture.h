@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -68,6 +69,35 @@ class CliTest : public ::testing::Test {
     return write(name + ".illum.json",
                  "{\"meshes\": [{\"file\": \"" + obj + "\", \"scale\": 0.001" +
                      (transform.empty() ? "" : ", \"transform\": " + transform) + "}]}")
+        .string();
+  }
+  // A unit quad in the xy plane (quad.bin: 4 positions, 6 indices) and the glTF scene
+  // `name`.gltf whose `nodes` (each a JSON object) place `meshes` meshes, each that quad.
+  std::string quad_gltf(const std::string& name, const std::vector<std::string>& nodes,
+                        int meshes = 1) {
+    const float positions[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const uint16_t indices[6] = {0, 1, 2, 0, 2, 3};
+    std::string bin(reinterpret_cast<const char*>(positions), sizeof(positions));
+    bin.append(reinterpret_cast<const char*>(indices), sizeof(indices));
+    write("quad.bin", bin);
+    std::string list, node_json, mesh_json;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      list += (i ? ", " : "") + std::to_string(i);
+      node_json += (i ? ", " : "") + nodes[i];
+    }
+    for (int m = 0; m < meshes; ++m)
+      mesh_json += std::string(m ? ", " : "") +
+                   R"({"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]})";
+    return write(name + ".gltf",
+                 R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [)" + list +
+                     R"(]}], "nodes": [)" + node_json + R"(], "meshes": [)" + mesh_json +
+                     R"(],
+"buffers": [{"uri": "quad.bin", "byteLength": 60}],
+"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+"accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+               "min": [0, 0, 0], "max": [1, 1, 0]},
+              {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})")
         .string();
   }
   // One clear line, exit code 2, and the line mentions `needle`.
