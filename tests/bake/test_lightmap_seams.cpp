@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../render/render_test_scenes.h"
+#include "charted_cornell.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
@@ -223,15 +224,10 @@ TEST(LightmapSeams, LeavesFreeSamplesAlone) {
   std::vector<vec3> tris;
   test::push_quad(tris, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
   add_triangles(scene, tris, mat, "plane");
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions options;
-  options.resolution = 32;
-  const atlas::Atlas a = atlas::build_atlas(scene, options);
-  atlas::apply_atlas(scene, a);
-  const RayTracer tracer(scene);
-  atlas::TexelRaster raster = atlas::rasterize_texels(scene, a.width, a.height);
+  test::ChartedScene c(std::move(scene), 32);
+  atlas::TexelRaster& raster = c.raster;
   const atlas::TexelRaster before = raster;
-  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(c.scene, *c.tracer, raster);
   EXPECT_EQ(pushed.moved, 0);
   EXPECT_EQ(pushed.rejected, 0);
   ASSERT_EQ(raster.samples.size(), before.samples.size());
@@ -257,16 +253,10 @@ TEST(LightmapSeams, RejectsSamplesWithNoFreePosition) {
                 mat, "inner");
   add_triangles(scene, inward_box(vec3(-0.02f, -0.001f, -0.02f), vec3(0.02f, 0.001f, 0.02f), false),
                 mat, "outer");
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions options;
-  options.resolution = 64;
-  options.texel_size = 0.1f;
-  const atlas::Atlas a = atlas::build_atlas(scene, options);
-  atlas::apply_atlas(scene, a);
-  const RayTracer tracer(scene);
-  atlas::TexelRaster raster = atlas::rasterize_texels(scene, a.width, a.height);
+  test::ChartedScene c(std::move(scene), atlas::AtlasOptions{.resolution = 64, .texel_size = 0.1f});
+  atlas::TexelRaster& raster = c.raster;
   const size_t covered = raster.covered();
-  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(c.scene, *c.tracer, raster);
   EXPECT_GT(pushed.rejected, 0);
   EXPECT_EQ(raster.covered(), covered - size_t(pushed.rejected));
   for (size_t i = 0; i < raster.samples.size(); ++i)

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bake_test_scenes.h"
+#include "charted_cornell.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
@@ -29,23 +30,7 @@ namespace {
 using bake::RadiosityBake;
 using bake::RadiosityBakeOptions;
 
-// A scene charted by the atlas (every mesh gets uv1), with its tracer and texel raster.
-struct Charted {
-  Charted(Scene s, int resolution) : scene(std::move(s)) {
-    atlas::make_meshes_unique(scene);
-    atlas::AtlasOptions options;
-    options.resolution = resolution;
-    const atlas::Atlas a = atlas::build_atlas(scene, options);
-    atlas::apply_atlas(scene, a);
-    tracer = std::make_unique<RayTracer>(scene);
-    raster = atlas::rasterize_texels(scene, a.width, a.height);
-    texel_size = a.texel_size;
-  }
-  Scene scene;
-  float texel_size = 0.0f;
-  std::unique_ptr<RayTracer> tracer;
-  atlas::TexelRaster raster;
-};
+using Charted = test::ChartedScene;
 
 // Where radiosity's piecewise-constant sources cannot agree with the path tracer's point
 // evaluation texel by texel, by construction rather than by error:
