@@ -27,6 +27,11 @@
 //   took longer than the pass itself — the same counts, arranged more expensively than the
 //   scene's mix of tiny and large triangles — so they bound nothing.) The culled triangles and
 //   rejected fragments are added as above.
+// * quads: the mixed pass again with the passing layers made of the quads the pass shaded —
+//   a fragment shader runs in 2×2 quads, and a quad holding one passing sample occupies the
+//   lanes of four — counted in the counting frame by shaders/quad_count.frag (the pass
+//   replayed with its own vertex stage and tests; its passing samples must equal the
+//   occlusion query's, or the bench stops), as 4 × quads samples of whole quads.
 // * memory: a buffer-to-buffer copy of --bandwidth-mib MiB gives the device's copy
 //   bandwidth (bytes read + written per second); a compute pass's bound is the bytes of the
 //   images and buffers it declares (each read once and written once) at that bandwidth.
@@ -421,6 +426,7 @@ struct Row {
   bool has_work = false;
   double raster_ms = 0.0, memory_ms = 0.0, geometry_ms = 0.0;  // own work's bounds
   double mixed_ms = 0.0;
+  double quads_ms = 0.0;  // the mixed bound with the passing samples' quads made whole
   std::vector<std::string> details;
 };
 
@@ -532,7 +538,11 @@ int run_raster(SuiteArgs args) {
   // are charged as in the raster bound.
   std::map<std::string, double> mixed_cache;
   nlohmann::json mixed_bounds = nlohmann::json::array();
-  auto mixed_bound = [&](const nlohmann::json& fills_json, const std::string& file, double raster) {
+  // `quad_scale` multiplies the passing layers: 4 × quads / passing samples for the bound at
+  // quad granularity (a fragment shader runs in 2×2 quads: a quad with one passing sample
+  // costs the chip the lanes of four).
+  auto mixed_bound = [&](const nlohmann::json& fills_json, const std::string& file, double raster,
+                         double quad_scale) {
     std::map<std::string, std::pair<int, double>> renderings;  // key: (renderings, layers)
     double passing = 0.0, rejected_ms = 0.0;
     for (const auto& f : fills_json) {
@@ -544,8 +554,8 @@ int run_raster(SuiteArgs args) {
       }
       auto& [n, layers] = renderings[fill.key()];
       ++n;
-      layers += count;
-      passing += count;
+      layers += quad_scale * count;
+      passing += quad_scale * count;
     }
     double total = rejected_ms;
     for (const auto& [key, rendering] : renderings) {
@@ -588,9 +598,11 @@ int run_raster(SuiteArgs args) {
         r.has_work = true;
         // Fills of one configuration (the views of a cube map) are listed once, summed.
         std::vector<std::pair<std::string, double>> counts;
+        double passing_samples = 0.0;
         for (const auto& f : p["work"]["fills"]) {
           const gpu::RasterFill fill = fill_from_json(f, files[i]);
           const double count = f.at("count").get<double>();
+          if (!rejected(fill)) passing_samples += count * fill.width * fill.height;
           // Each passing fill is one rendering: its fixed cost, then its passing layers.
           // Rejected fragments (behind what is drawn, or z-fail volume samples) belong to
           // the same rendering: only the per-layer slope of a full-screen rejected layer,
@@ -616,9 +628,23 @@ int run_raster(SuiteArgs args) {
           r.geometry_ms =
               (triangles - raster) * triangle_ms + raster * std::max(setup_ms, triangle_ms);
           if (raster >= 1.0) {
-            r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster) +
+            r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster, 1.0) +
                          (triangles - raster) * triangle_ms;
             r.details.push_back(fmt::format("mixed {:.4f}", r.mixed_ms));
+            const double quads = p["work"].value("quads", -1.0);
+            const double counted = p["work"].value("quad_samples", -1.0);
+            if (quads > 0.0 && counted > 0.0 && passing_samples > 0.0) {
+              // The quad count replays the pass; it must have passed what the pass passed.
+              if (std::abs(counted - passing_samples) > 1e-3 * passing_samples)
+                throw Error(fmt::format(
+                    "{}: pass {}: the quad count saw {} passing samples, the occlusion query {}",
+                    files[i], r.name, counted, passing_samples));
+              const double scale = 4.0 * quads / counted;
+              r.quads_ms = mixed_bound(p["work"]["fills"], files[i], raster, scale) +
+                           (triangles - raster) * triangle_ms;
+              r.details.push_back(fmt::format("quads {:.4f} ({:.4g} quads, {:.3f}× the samples)",
+                                              r.quads_ms, quads, scale));
+            }
           }
           r.details.push_back(
               p["work"].contains("rasterized_triangles")
@@ -651,10 +677,11 @@ int run_raster(SuiteArgs args) {
       } else if (r.median_ms < kDispatchBoundMs) {
         kind = "dispatch";
       } else if (r.has_work) {
-        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms, r.mixed_ms});
+        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms, r.mixed_ms, r.quads_ms});
         kind = bound == r.raster_ms     ? "raster"
                : bound == r.geometry_ms ? "geometry"
                : bound == r.mixed_ms    ? "mixed"
+               : bound == r.quads_ms    ? "quads"
                                         : "memory";
         if (bound <= 0.0) kind = "none";  // rejected fragments only (listed, not bounded)
       } else {
@@ -662,8 +689,8 @@ int run_raster(SuiteArgs args) {
         bool any = false;
         for (size_t c = k + 1; c < rows.size() && rows[c].depth > r.depth; ++c)
           if (rows[c].depth == r.depth + 1 && rows[c].has_work) {
-            bound += std::max(
-                {rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms, rows[c].mixed_ms});
+            bound += std::max({rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms,
+                               rows[c].mixed_ms, rows[c].quads_ms});
             any = true;
           }
         if (any) {

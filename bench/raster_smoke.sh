@@ -22,7 +22,9 @@ run deferred-volume --technique deferred --shadows volume
 run visibility-map --technique visibility --shadows map
 # lavapipe counts no passing fragments, so the mixed bound's grids (passing layers and
 # rasterized triangles drawn together) are exercised on a synthetic frame: the deferred
-# frame's pre-pass given 1.5 passing layers of 200 rasterized triangles.
+# frame's pre-pass given 1.5 passing layers of 200 rasterized triangles, in 720 quads
+# (1.25 × the samples: the quad bound draws 1.875 layers). A copy whose quad count saw other
+# samples than the occlusion query must be refused.
 python3 - "$out/deferred-map.json" "$out/synthetic.json" <<'PY'
 import copy, json, sys
 fr = json.load(open(sys.argv[1]))
@@ -33,8 +35,19 @@ for p in fr["passes"]:
         passing["depth"], passing["count"] = 1, 1.5
         p["work"]["fills"].append(passing)
         p["work"]["rasterized_triangles"] = p["work"]["triangles"] = 200.0
+        p["work"]["quads"], p["work"]["quad_samples"] = 720.0, 1.5 * 48 * 32
 json.dump(fr, open(sys.argv[2], "w"))
+for p in fr["passes"]:
+    if p["name"] == "depth_prepass":
+        p["work"]["quad_samples"] = 1.5 * 48 * 32 - 7
+json.dump(fr, open(sys.argv[2].replace("synthetic", "mismatch"), "w"))
 PY
+mv "$out/mismatch.json" "$out/mismatch.json.bad"
+if "$bench" raster "$out/mismatch.json.bad" --repeats 1 --bandwidth-mib 1 > "$out/mismatch.txt" 2>&1; then
+  echo "illum-bench raster accepted a quad count that disagrees with the occlusion query" >&2
+  exit 1
+fi
+grep -q "the quad count saw 2297 passing samples, the occlusion query 2304" "$out/mismatch.txt"
 "$bench" raster "$out"/*.json --repeats 3 --bandwidth-mib 4 --json "$out/raster.json" > "$out/raster.txt"
 python3 - "$out/raster.json" <<'PY'
 import json, sys
@@ -50,7 +63,7 @@ names = {}
 for f in d["frames"]:
     for p in f["passes"]:
         names.setdefault(f["technique"] + "/" + f["shadows"], []).append(p)
-        if p["bound"] in ("raster", "memory", "geometry", "mixed", "nested"):
+        if p["bound"] in ("raster", "memory", "geometry", "mixed", "quads", "nested"):
             assert p["bound_ms"] > 0 and p["ratio"] > 0, p
 for run, passes in names.items():
     got = {p["name"]: p for p in passes}
@@ -87,10 +100,12 @@ for n in ["forward-map", "deferred-map", "deferred-volume", "visibility-map"]:
             else:
                 assert w["rasterized_triangles"] > 0 and w["triangles"] > 0, (n, p)
 grids = d["mixed_bounds"]
-assert [(g["triangles"], g["layers"]) for g in grids] == [(200, 1.5)], grids
-assert grids[0]["ms"] > 0, grids
+assert [(g["triangles"], g["layers"]) for g in grids] == [(200, 1.5), (200, 1.875)], grids
+assert grids[0]["ms"] > 0 and grids[1]["ms"] > 0, grids
 syn = {p["name"]: p for p in names["synthetic/map"]}
 assert any(w.startswith("mixed ") for w in syn["depth_prepass"]["work"]), syn["depth_prepass"]
-assert syn["depth_prepass"]["bound_ms"] >= grids[0]["ms"], syn["depth_prepass"]
+assert any(w.startswith("quads ") and "720 quads, 1.250×" in w
+           for w in syn["depth_prepass"]["work"]), syn["depth_prepass"]
+assert syn["depth_prepass"]["bound_ms"] >= grids[1]["ms"], syn["depth_prepass"]
 print("raster smoke ok:", len(keys), "bounds,", sum(len(v) for v in names.values()), "passes")
 PY

@@ -262,7 +262,10 @@ void Context::pick_device(const ContextOptions& options) {
 }
 
 void Context::create_device(bool swapchain) {
+  VkPhysicalDeviceSubgroupProperties subgroup{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  driver.pNext = &subgroup;
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   props.pNext = &driver;
   vkGetPhysicalDeviceProperties2(physical_, &props);
@@ -303,6 +306,10 @@ void Context::create_device(bool swapchain) {
   features.features.pipelineStatisticsQuery = have.features.pipelineStatisticsQuery;
   pipeline_statistics_ = have.features.pipelineStatisticsQuery == VK_TRUE;
   occlusion_query_precise_ = have.features.occlusionQueryPrecise == VK_TRUE;
+  features.features.fragmentStoresAndAtomics = have.features.fragmentStoresAndAtomics;
+  quad_counting_ = have.features.fragmentStoresAndAtomics == VK_TRUE &&
+                   (subgroup.supportedStages & VK_SHADER_STAGE_FRAGMENT_BIT) != 0 &&
+                   (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_QUAD_BIT) != 0;
   if (!have.features.imageCubeArray)
     throw Error(fmt::format(
         "Vulkan device '{}' lacks imageCubeArray (needed for point-light shadows)", device_name_));

@@ -59,6 +59,9 @@ class Context {
   bool occlusion_query_precise() const { return occlusion_query_precise_; }
   // Pipeline statistics queries (counting frames: the triangles that reach rasterization).
   bool pipeline_statistics() const { return pipeline_statistics_; }
+  // Fragment shaders can count the 2×2 quads they run in (subgroup quad operations and
+  // storage writes in the fragment stage: shaders/quad_count.frag).
+  bool quad_counting() const { return quad_counting_; }
   bool timestamps() const { return timestamp_period_ns_ > 0.0f; }
   float timestamp_period_ns() const { return timestamp_period_ns_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -98,6 +101,7 @@ class Context {
   bool primitive_id_ = false;
   bool occlusion_query_precise_ = false;
   bool pipeline_statistics_ = false;
+  bool quad_counting_ = false;
   float timestamp_period_ns_ = 0.0f;
   mutable std::mutex messages_mutex_;
   std::vector<std::string> messages_;

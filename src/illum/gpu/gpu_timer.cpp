@@ -68,6 +68,7 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
   triangles_.clear();
   counts_.clear();
   rasterized_scopes_.clear();
+  quad_scopes_.clear();
   open_ = 0;
   if (pool_) vkCmdResetQueryPool(cmd, pool_, 0, 2 * max_scopes_);
   if (counting_ && occlusion_) vkCmdResetQueryPool(cmd, occlusion_, 0, occlusion_capacity_);
@@ -117,6 +118,9 @@ void GpuTimer::set_counting(bool on, bool statistics) {
   info.queryType = VK_QUERY_TYPE_OCCLUSION;
   info.queryCount = occlusion_capacity_;
   ILLUM_VK(vkCreateQueryPool(context_->device(), &info, nullptr, &occlusion_));
+  if (context_->quad_counting())
+    quad_readback_ = Buffer(*context_, occlusion_capacity_ * 2 * sizeof(uint32_t),
+                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::kReadback);
   if (!context_->pipeline_statistics()) return;
   info.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
   info.pipelineStatistics = VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT;
@@ -160,6 +164,30 @@ void GpuTimer::end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& 
   vkCmdEndQuery(cmd, occlusion_, query);
 }
 
+void GpuTimer::begin_quads(VkCommandBuffer cmd, VkBuffer counter) {
+  if (!counts_quads()) return;
+  vkCmdFillBuffer(cmd, counter, 0, 2 * sizeof(uint32_t), 0);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+}
+
+void GpuTimer::end_quads(VkCommandBuffer cmd, VkBuffer counter) {
+  if (!counts_quads()) return;
+  ILLUM_CHECK(quad_scopes_.size() < occlusion_capacity_,
+              "more than {} quad-counted renderings in one frame", occlusion_capacity_);
+  const VkDeviceSize bytes = 2 * sizeof(uint32_t);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  const VkBufferCopy region{0, quad_scopes_.size() * bytes, bytes};
+  vkCmdCopyBuffer(cmd, counter, quad_readback_.handle(), 1, &region);
+  // The next begin_quads() overwrites the counter; the host reads the copy after the fence.
+  memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT | VK_PIPELINE_STAGE_2_HOST_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_READ_BIT);
+  quad_scopes_.push_back(stack_.empty() ? ~0u : stack_.back());
+}
+
 std::vector<PassTime> GpuTimer::resolve() const {
   std::vector<PassTime> out;
   if (!pool_ || names_.empty()) return out;
@@ -198,6 +226,16 @@ std::vector<PassTime> GpuTimer::resolve() const {
       if (scope >= out.size()) continue;
       out[scope].rasterized =
           std::max(0.0, out[scope].rasterized) + static_cast<double>(primitives[q]);
+    }
+  }
+  if (counts_quads() && !quad_scopes_.empty()) {
+    std::vector<uint32_t> counts(2 * quad_scopes_.size());
+    quad_readback_.read(counts.data(), counts.size() * sizeof(uint32_t));
+    for (size_t q = 0; q < quad_scopes_.size(); ++q) {
+      const uint32_t scope = quad_scopes_[q];
+      if (scope >= out.size()) continue;
+      out[scope].quads = std::max(0.0, out[scope].quads) + counts[2 * q];
+      out[scope].quad_samples = std::max(0.0, out[scope].quad_samples) + counts[2 * q + 1];
     }
   }
   return out;

@@ -19,6 +19,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "illum/gpu/buffer.h"
 #include "illum/gpu/context.h"
 
 namespace illum::gpu {
@@ -59,6 +60,12 @@ struct PassTime {
   // Of those, the ones that reached rasterization (out of clipping; counting frames on a
   // device with pipeline statistics; −1: not counted).
   double rasterized = -1.0;
+  // Counting frames on a device that counts quads (Context::quad_counting): the 2×2 quads
+  // its renderings shaded with at least one passing sample, and the passing samples the
+  // same count saw (equal to the occlusion query's: the check that it replayed the pass);
+  // −1: not counted.
+  double quads = -1.0;
+  double quad_samples = -1.0;
 };
 
 class GpuTimer {
@@ -101,6 +108,13 @@ class GpuTimer {
   // `rasterized` (otherwise both record nothing).
   uint32_t begin_rasterized(VkCommandBuffer cmd);
   void end_rasterized(VkCommandBuffer cmd, uint32_t query);
+  // Counting frames on a device that can count quads: outside any rendering, begin_quads()
+  // zeroes `counter` (two uint32: quads, samples — shaders/quad_count.frag adds to it) and
+  // end_quads() copies it out; after resolve() the counts add to the innermost open scope's
+  // `quads` and `quad_samples`.
+  bool counts_quads() const { return counting() && context_->quad_counting(); }
+  void begin_quads(VkCommandBuffer cmd, VkBuffer counter);
+  void end_quads(VkCommandBuffer cmd, VkBuffer counter);
 
  private:
   void create_pool();
@@ -128,6 +142,8 @@ class GpuTimer {
   std::vector<Count> counts_;
   VkQueryPool statistics_ = VK_NULL_HANDLE;
   std::vector<uint32_t> rasterized_scopes_;  // per statistics query
+  Buffer quad_readback_;                     // {quads, samples} per counted rendering
+  std::vector<uint32_t> quad_scopes_;        // per counted rendering
 };
 
 }  // namespace illum::gpu

@@ -111,8 +111,17 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
       .buffer(baked, 3, kSsbo, dummy_buffer_.handle())
       .buffer(baked, 4, kSsbo, dummy_buffer_.handle())
       .buffer(baked, 5, kSsbo, dummy_buffer_.handle());
+  quad_counter_ =
+      gpu::Buffer(context, 2 * sizeof(uint32_t),
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                      VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  gpu::MemoryUsage::kDevice);
+  quad_count_set_layout_ = gpu::DescriptorSetLayout(context, {B{0, kSsbo}});
+  quad_count_set_ = descriptors_.allocate(quad_count_set_layout_);
+  w.buffer(quad_count_set_, 0, kSsbo, quad_counter_.handle());
   w.commit(context.device());
   default_layout_ = shading_layout();
+  quad_count_layout_ = shading_layout(quad_count_set_layout_.handle());
 }
 
 const gpu::DescriptorSetLayout& FrameGlobals::layout(uint32_t slot) const {

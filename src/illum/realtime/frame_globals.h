@@ -57,6 +57,12 @@ class FrameGlobals {
   // The one with an empty slot 2 (shadow maps, forward shading, stencil volumes).
   VkPipelineLayout default_layout() const { return default_layout_.handle(); }
 
+  // Counting frames (GpuTimer::begin_quads): the {quads, samples} counter that
+  // shaders/quad_count.frag adds to, bound as slot 2 of `quad_count_layout`.
+  VkBuffer quad_counter() const { return quad_counter_.handle(); }
+  VkDescriptorSet quad_count_set() const { return quad_count_set_; }
+  VkPipelineLayout quad_count_layout() const { return quad_count_layout_.handle(); }
+
   void upload_lights(const std::vector<Light>& lights);
   // The frame uniforms: the camera, and the lighting globals from `settings`.
   void update(const FrameView& view, const RenderSettings& settings, size_t light_count,
@@ -73,6 +79,10 @@ class FrameGlobals {
   std::vector<VkDescriptorSet> material_sets_;
   std::vector<VkDescriptorSet> neutral_sets_;  // per slot (0, 1: none)
   gpu::PipelineLayout default_layout_;
+  gpu::Buffer quad_counter_;
+  gpu::DescriptorSetLayout quad_count_set_layout_;
+  VkDescriptorSet quad_count_set_ = VK_NULL_HANDLE;
+  gpu::PipelineLayout quad_count_layout_;
 };
 
 // Binds the five shading sets (slot 1: material 0; the scene draw rebinds it per draw).

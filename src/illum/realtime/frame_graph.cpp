@@ -248,6 +248,18 @@ void PassContext::end_rasterized(uint32_t query) {
   if (counting()) timer_->end_rasterized(cmd_, query);
 }
 
+bool PassContext::counts_quads() const {
+  return counting() && timer_->counts_quads();
+}
+
+void PassContext::begin_quads(VkBuffer counter) {
+  if (counts_quads()) timer_->begin_quads(cmd_, counter);
+}
+
+void PassContext::end_quads(VkBuffer counter) {
+  if (counts_quads()) timer_->end_quads(cmd_, counter);
+}
+
 bool PassContext::counts_tested() const {
   return counting() && timer_->counts_tested();
 }

@@ -209,6 +209,11 @@ class PassContext {
   // rasterization (gpu::PassTime::rasterized; nothing where the device cannot count them).
   uint32_t begin_rasterized();
   void end_rasterized(uint32_t query);
+  // Counting frames on a device that counts quads (gpu::GpuTimer::begin_quads): outside any
+  // rendering scope, around the draws that add to `counter`.
+  bool counts_quads() const;
+  void begin_quads(VkBuffer counter);
+  void end_quads(VkBuffer counter);
   // Whether "NAME.previous" holds a frame (false on the first frame after creation).
   bool has_history(const std::string& resource) const;
 

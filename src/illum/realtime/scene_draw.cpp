@@ -26,6 +26,26 @@ gpu::GraphicsPipelineDesc counting_variant(gpu::GraphicsPipelineDesc d) {
   return d;
 }
 
+CountingPipelines::CountingPipelines(gpu::Context& context, VkPipelineLayout layout,
+                                     const gpu::GraphicsPipelineDesc& pass)
+    : context_(&context), pass_(pass), rasterized_(context, layout, counting_variant(pass)) {}
+
+const gpu::Pipeline& CountingPipelines::quads(VkPipelineLayout quad_count_layout) const {
+  if (!quads_) {
+    gpu::GraphicsPipelineDesc d = pass_;
+    d.fragment_shader = "quad_count.frag";
+    d.fragment_specialization = nullptr;
+    d.color_write = false;
+    d.additive_blend = false;
+    quads_ = gpu::Pipeline(*context_, quad_count_layout, d);
+  }
+  return quads_;
+}
+
+bool CountingPipelines::replays(const DrawTargets& targets) const {
+  return targets.clear_depth || !pass_.depth_write || targets.depth == VK_NULL_HANDLE;
+}
+
 namespace {
 
 void set_viewport(VkCommandBuffer cmd, VkExtent2D extent) {
@@ -167,12 +187,23 @@ void SceneDrawer::render(VkCommandBuffer cmd, const DrawTargets& targets,
 }
 
 void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
-                                 const gpu::Pipeline& variant, const gpu::Pipeline& counter,
+                                 const gpu::Pipeline& variant, const CountingPipelines& counter,
                                  VkPipelineLayout layout,
                                  const std::array<VkDescriptorSet, 3>& sets, const SceneView& view,
                                  const gpu::RasterFill& passing,
                                  const gpu::RasterFill& rejected) const {
   const VkCommandBuffer cmd = pass.cmd();
+  if (pass.counts_quads() && counter.replays(targets)) {
+    // First the quads, with the pass's own tests from the same start: then the pass itself
+    // leaves the targets as every other frame does.
+    const VkPipelineLayout quad_layout = globals_.quad_count_layout();
+    pass.begin_quads(globals_.quad_counter());
+    begin(cmd, targets);
+    draw(cmd, counter.quads(quad_layout), quad_layout,
+         {globals_.quad_count_set(), sets[1], sets[2]}, view);
+    end(cmd);
+    pass.end_quads(globals_.quad_counter());
+  }
   begin(cmd, targets);
   // Lavapipe crashes on occlusion queries around depth-tested draws in frames that also
   // build shadow volumes on the GPU: there every fragment counts as rejected (a lower bound).
@@ -190,7 +221,7 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   again.clear_depth = false;
   begin(cmd, again);
   const uint32_t all = pass.begin_count();
-  draw(cmd, counter, layout, sets, view);
+  draw(cmd, counter.rasterized(), layout, sets, view);
   pass.end_count(all, rejected, split ? static_cast<int>(passed) : -1);
   end(cmd);
 }

@@ -41,6 +41,29 @@ struct DrawTargets {
   VkExtent2D extent{};
 };
 
+// What a counting frame draws a scene pass with besides the pass's own pipeline:
+// `rasterized()` (counting_variant: all it rasterizes, untested) and `quads()` — the pass's
+// vertex stage and depth and stencil state with shaders/quad_count.frag, which counts the
+// 2×2 quads holding its passing samples (built on first use: only counting frames on a
+// device with Context::quad_counting draw it).
+class CountingPipelines {
+ public:
+  CountingPipelines() = default;
+  CountingPipelines(gpu::Context& context, VkPipelineLayout layout,
+                    const gpu::GraphicsPipelineDesc& pass);
+  const gpu::Pipeline& rasterized() const { return rasterized_; }
+  const gpu::Pipeline& quads(VkPipelineLayout quad_count_layout) const;
+  // Drawing the pass again over its own result passes the same fragments only when the
+  // depth starts cleared or the pass does not write it.
+  bool replays(const DrawTargets& targets) const;
+
+ private:
+  gpu::Context* context_ = nullptr;
+  gpu::GraphicsPipelineDesc pass_;
+  gpu::Pipeline rasterized_;
+  mutable gpu::Pipeline quads_;
+};
+
 // What the push constants say about the view: shadow passes name their shadow view and
 // light; colour passes (per_draw) push each draw's index instead, for per-draw data such as
 // the ambient cube (baked.glsl). `mode` goes to push.pad (forward.frag: 0 all lights,
@@ -97,10 +120,11 @@ class SceneDrawer {
   // render() with one variant, noting the pass's work in its timer scope: the triangles,
   // and in counting frames (Renderer::measure_work) its fragments — those that pass the
   // tests (an occlusion query around the draws) as fills of `passing`, and those rejected
-  // (all it rasterizes, counted by drawing again with `counter`, minus the passing) as fills
-  // of `rejected`.
+  // (all it rasterizes, counted by drawing again with `counter.rasterized()`, minus the
+  // passing) as fills of `rejected` — and, where the device can, the quads of the passing
+  // ones (drawn first with `counter.quads()` into the same targets).
   void render_counted(PassContext& pass, const DrawTargets& targets, const gpu::Pipeline& variant,
-                      const gpu::Pipeline& counter, VkPipelineLayout layout,
+                      const CountingPipelines& counter, VkPipelineLayout layout,
                       const std::array<VkDescriptorSet, 3>& sets, const SceneView& view,
                       const gpu::RasterFill& passing, const gpu::RasterFill& rejected) const;
 

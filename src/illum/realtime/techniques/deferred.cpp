@@ -81,11 +81,11 @@ class Deferred final : public FramePipeline {
     pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
-    prepass_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(pre));
+    prepass_count_ = CountingPipelines(ctx.gpu, layout, pre);
     g.depth_write = false;
     g.depth_compare = VK_COMPARE_OP_EQUAL;
     gbuffer_ = gpu::Pipeline(ctx.gpu, layout, g);
-    gbuffer_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(g));
+    gbuffer_count_ = CountingPipelines(ctx.gpu, layout, g);
     gpu::GraphicsPipelineDesc l;
     l.vertex_shader = "deferred_light.vert";
     l.fragment_shader = "deferred_light.frag";
@@ -320,9 +320,10 @@ class Deferred final : public FramePipeline {
   gpu::DescriptorSetLayout set_layout_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
-  gpu::Pipeline prepass_, gbuffer_, prepass_count_, gbuffer_count_, compute_light_, light_stencil_,
-      light_volume_, light_fullscreen_, masked_light_;
+  gpu::Pipeline prepass_, gbuffer_, compute_light_, light_stencil_, light_volume_,
+      light_fullscreen_, masked_light_;
   gpu::Buffer sphere_vertices_, sphere_indices_;
+  CountingPipelines prepass_count_, gbuffer_count_;
   uint32_t sphere_index_count_ = 0;
 };
 

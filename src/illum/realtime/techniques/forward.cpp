@@ -36,11 +36,11 @@ class Forward final : public FramePipeline {
     pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
-    prepass_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(pre));
+    prepass_count_ = CountingPipelines(ctx.gpu, layout, pre);
     fwd.depth_write = false;
     fwd.depth_compare = VK_COMPARE_OP_EQUAL;
     shade_ = gpu::Pipeline(ctx.gpu, layout, fwd);
-    shade_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(fwd));
+    shade_count_ = CountingPipelines(ctx.gpu, layout, fwd);
     if (masked_) {
       gpu::GraphicsPipelineDesc l = fwd;
       // Same vertex shader and state as the depth pass, so the depths repeat exactly (the
@@ -118,7 +118,8 @@ class Forward final : public FramePipeline {
 
  private:
   bool masked_ = false;
-  gpu::Pipeline prepass_, shade_, masked_light_, prepass_count_, shade_count_;
+  gpu::Pipeline prepass_, shade_, masked_light_;
+  CountingPipelines prepass_count_, shade_count_;
 };
 
 }  // namespace

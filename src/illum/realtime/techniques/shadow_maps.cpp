@@ -62,13 +62,13 @@ class ShadowMaps final : public ShadowMethod {
     sh.depth_format = kShadowDepthFormat;
     if (!cube_lights_.empty() || !spot_lights_.empty()) {
       radial_ = gpu::Pipeline(ctx.gpu, layout, sh);
-      radial_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(sh));
+      radial_count_ = CountingPipelines(ctx.gpu, layout, sh);
     }
     if (cascade_light_ >= 0) {
       sh.fragment_shader = "shadow_dir.frag";
       sh.depth_clamp = ctx.gpu.depth_clamp();  // casters behind the cascade's near plane
       ortho_ = gpu::Pipeline(ctx.gpu, layout, sh);
-      ortho_count_ = gpu::Pipeline(ctx.gpu, layout, counting_variant(sh));
+      ortho_count_ = CountingPipelines(ctx.gpu, layout, sh);
     }
     const size_t views = 6 * cube_lights_.size() + spot_lights_.size() + kCascades;
     views_ = gpu::Buffer(ctx.gpu, views * sizeof(glm::mat4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -247,8 +247,9 @@ class ShadowMaps final : public ShadowMethod {
 
   // One view of the scene into one layer of `target` (shadow_cube: radial distance / far,
   // shadow_dir: orthographic depth; VSM: also its square).
-  void render_view(PassContext& pass, const gpu::Pipeline& pipeline, const gpu::Pipeline& counter,
-                   const char* target, uint32_t layer, int view, int light) {
+  void render_view(PassContext& pass, const gpu::Pipeline& pipeline,
+                   const CountingPipelines& counter, const char* target, uint32_t layer, int view,
+                   int light) {
     pass.use("shadow.depth", kDepthAttachment);  // the last view's depth test is done with it
     DrawTargets t;
     t.colors = {{ctx_.resources.image(target).layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}}}};
@@ -341,7 +342,8 @@ class ShadowMaps final : public ShadowMethod {
   // Narrow spot lights get one 2-D perspective map (the cone's frustum) instead of 6 faces.
   std::vector<int> spot_lights_;
   int cascade_light_ = -1;
-  gpu::Pipeline radial_, ortho_, radial_count_, ortho_count_;
+  gpu::Pipeline radial_, ortho_;
+  CountingPipelines radial_count_, ortho_count_;
   gpu::Buffer views_, shadow_lights_, uniforms_;
   std::vector<glm::mat4> view_matrices_;  // views_'s contents, for culling on the CPU
   gpu::DescriptorAllocator descriptors_;

@@ -116,7 +116,7 @@ class Visibility final : public FramePipeline {
     g.depth_format = ctx.depth_format;
     g.stencil_format = ctx.depth_format;
     raster_ = gpu::Pipeline(ctx.gpu, ctx.globals.default_layout(), g);
-    raster_count_ = gpu::Pipeline(ctx.gpu, ctx.globals.default_layout(), counting_variant(g));
+    raster_count_ = CountingPipelines(ctx.gpu, ctx.globals.default_layout(), g);
     resolve_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "visibility_resolve.comp");
     classify_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "visibility_classify.comp");
   }
@@ -258,7 +258,8 @@ class Visibility final : public FramePipeline {
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
   gpu::Buffer draws_;
-  gpu::Pipeline raster_, raster_count_, classify_, resolve_;
+  gpu::Pipeline raster_, classify_, resolve_;
+  CountingPipelines raster_count_;
 };
 
 }  // namespace
