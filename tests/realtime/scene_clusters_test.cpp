@@ -58,7 +58,7 @@ TEST_F(SceneClusters, EveryTriangleInOneCompactCluster) {
   const DrawItem& floor = gpu.draws()[0];
   ASSERT_EQ(floor.mesh, 0u);
   const uint32_t triangles = static_cast<uint32_t>(scene.meshes[0].indices.size() / 3);
-  EXPECT_EQ(floor.cluster_count, (triangles + 511) / 512);
+  EXPECT_EQ(floor.cluster_count, (triangles + kClusterTriangles - 1) / kClusterTriangles);
   uint32_t covered = 0;
   double area = 0.0;
   for (uint32_t c = floor.first_cluster; c < floor.first_cluster + floor.cluster_count; ++c) {
@@ -71,7 +71,7 @@ TEST_F(SceneClusters, EveryTriangleInOneCompactCluster) {
   }
   EXPECT_EQ(covered, triangles);
   // Compact: the clusters' footprints add up to little more than the floor (1 m²); the
-  // shuffled order taken in runs of 512 would give each run the whole floor (9 m²).
+  // shuffled order taken in runs of kClusterTriangles would give each run the whole floor (9 m²).
   std::printf("floor: %u clusters, footprints %.3f m²\n", floor.cluster_count, area);
   EXPECT_LT(area, 1.5);
 }
@@ -113,10 +113,17 @@ TEST_F(SceneClusters, CullingKeepsEveryClusterTheViewCanSeeAndSortsFrontToBack) 
     EXPECT_TRUE(is_drawn[c]) << "cluster " << c << " has a vertex in view but was culled";
   }
   EXPECT_GT(needed, 0u);
-  // Front to back: the clip-space depth of the clusters' centres never decreases.
+  // Front to back: the clip-space depth of the clusters' farthest corners never decreases.
   for (size_t i = 1; i < drawn.size(); ++i) {
-    const float a = (clip * vec4(gpu.clusters()[drawn[i - 1]].bounds.center(), 1.0f)).z;
-    const float b = (clip * vec4(gpu.clusters()[drawn[i]].bounds.center(), 1.0f)).z;
+    float a = -1e30f, b = -1e30f;
+    for (int k = 0; k < 8; ++k) {
+      auto corner = [&](const Bounds3& x) {
+        return vec4((k & 1) ? x.max.x : x.min.x, (k & 2) ? x.max.y : x.min.y,
+                    (k & 4) ? x.max.z : x.min.z, 1.0f);
+      };
+      a = std::max(a, (clip * corner(gpu.clusters()[drawn[i - 1]].bounds)).z);
+      b = std::max(b, (clip * corner(gpu.clusters()[drawn[i]].bounds)).z);
+    }
     EXPECT_LE(a, b) << i;
   }
   std::printf("view draws %zu of %zu clusters (%zu with a vertex in view)\n", drawn.size(),

@@ -11,7 +11,6 @@ namespace {
 // Triangles per cluster: small enough that a shadow view or the camera culls most of what it
 // cannot see and a front-to-back order means something, large enough that a view of the
 // whole scene stays a few hundred draws (Sibenik, 80k triangles: about 170).
-constexpr uint32_t kClusterTriangles = 512;
 
 // The mesh's triangles reordered so that every run of `cluster` of them (the last run may be
 // shorter) is spatially compact: centroids split recursively at the median of their longest

@@ -1,5 +1,8 @@
 #include "illum/realtime/scene_draw.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "illum/realtime/gpu_types.h"
 
 namespace illum::realtime {
@@ -86,6 +89,19 @@ bool outside(const mat4& clip, const Bounds3& b, bool depth) {
 
 }  // namespace
 
+float farthest_depth(const mat4& clip, const Bounds3& b) {
+  // Clip-space z (not divided by w) grows with distance for perspective and orthographic
+  // views alike.
+  const vec4 row(clip[0][2], clip[1][2], clip[2][2], clip[3][2]);
+  float farthest = -std::numeric_limits<float>::infinity();
+  for (int k = 0; k < 8; ++k) {
+    const vec3 p((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                 (k & 4) ? b.max.z : b.min.z);
+    farthest = std::max(farthest, glm::dot(row, vec4(p, 1.0f)));
+  }
+  return farthest;
+}
+
 std::vector<uint32_t> visible_clusters(const GpuScene& scene, const SceneView& view) {
   const std::vector<Cluster>& clusters = scene.clusters();
   std::vector<uint32_t> out;
@@ -93,12 +109,8 @@ std::vector<uint32_t> visible_clusters(const GpuScene& scene, const SceneView& v
   for (uint32_t c = 0; c < clusters.size(); ++c)
     if (!view.cull || !outside(*view.cull, clusters[c].bounds, view.cull_depth)) out.push_back(c);
   if (view.cull && view.front_to_back) {
-    // Clip-space z of the centre (not divided by w) grows with distance for perspective and
-    // orthographic views alike.
     std::vector<float> depth(clusters.size());
-    const vec4 row(view.cull->operator[](0)[2], view.cull->operator[](1)[2],
-                   view.cull->operator[](2)[2], view.cull->operator[](3)[2]);
-    for (uint32_t c : out) depth[c] = glm::dot(row, vec4(clusters[c].bounds.center(), 1.0f));
+    for (uint32_t c : out) depth[c] = farthest_depth(*view.cull, clusters[c].bounds);
     std::stable_sort(out.begin(), out.end(),
                      [&](uint32_t a, uint32_t b) { return depth[a] < depth[b]; });
   }
