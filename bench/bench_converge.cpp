@@ -168,6 +168,7 @@ int run_converge(SuiteArgs args) {
                          json_path, plot_path;
   int width = 256, height = 256, reference_spp = 1024, max_bounces = 8, threads = 0;
   std::vector<int> spp_series{16, 64, 256};
+  std::vector<std::string> path_params;  // key=value for illum's path integrator
   uint64_t seed = 1;
   app.add_option("scene", scene_arg, "built-in scene name or scene file")->required();
   app.add_option("--width", width, "image width")
@@ -201,7 +202,23 @@ int run_converge(SuiteArgs args) {
   app.add_option("--plot", plot_path,
                  "PNG of relative error against time (default OUT/converge-SCENE.png)");
   app.add_option("--json", json_path, "write the results to this JSON file");
+  app.add_option("-p,--param", path_params,
+                 "illum path integrator parameter key=value (repeatable), e.g. rr_depth=2, to "
+                 "weigh a setting that keeps the estimate unbiased: a cached reference is "
+                 "reused whatever they are");
   if (!parse_args(app, args)) return 0;
+  nlohmann::json path_json = nlohmann::json::object();
+  for (const std::string& kv : path_params) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == kv.size())
+      throw Error(fmt::format("converge: --param '{}' must look like key=value", kv));
+    const std::string key = kv.substr(0, eq), text = kv.substr(eq + 1);
+    if (key == "max_bounces" || path_json.contains(key))
+      throw Error(fmt::format("converge: --param '{}' is given twice (or is --max-bounces)", key));
+    const nlohmann::json value = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    path_json[key] = value.is_discarded() ? nlohmann::json(text) : value;
+  }
+  path_json["max_bounces"] = max_bounces;
   check_output_folder(json_path);
   check_output_folder(plot_path);
   std::sort(spp_series.begin(), spp_series.end());
@@ -243,8 +260,8 @@ int run_converge(SuiteArgs args) {
     o.seed = s;
     o.threads = threads;
     o.progress = false;
-    std::unique_ptr<Integrator> integrator = Integrator::create(
-        "path", Params(nlohmann::json{{"max_bounces", max_bounces}}, "illum-bench converge"));
+    std::unique_ptr<Integrator> integrator =
+        Integrator::create("path", Params(path_json, "illum-bench converge"));
     Render r;
     r.spp = spp;
     r.seed = s;

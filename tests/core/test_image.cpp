@@ -88,6 +88,43 @@ TEST_F(ImageFiles, PngRoundTripAllChannelCounts) {
   }
 }
 
+TEST_F(ImageFiles, EightBitFilesKeepTheirBytesForLookups) {
+  // 8-bit files keep their bytes beside the floats (Image::keep_bytes), so texture lookups
+  // read a quarter of the memory; a lookup must return exactly the value the float texels
+  // give (the path tracer's images stay the same bytes), for every channel count and both
+  // encodings, at any uv (wrap-around included).
+  Rng rng(7);
+  for (const bool srgb : {true, false}) {
+    for (int channels = 1; channels <= 4; ++channels) {
+      SCOPED_TRACE(fmt::format("srgb {} channels {}", srgb, channels));
+      const std::string file = path(fmt::format("b{}.png", channels));
+      write_image(file, pattern(37, 21, channels));
+      const Image packed = read_image(file, srgb);
+      ASSERT_TRUE(packed.has_bytes());
+      Image floats = packed;
+      floats.data();  // any non-const access drops the copy
+      ASSERT_FALSE(floats.has_bytes());
+      for (int i = 0; i < 2000; ++i) {
+        const float u = 3.0f * rng.next_float() - 1.0f, v = 3.0f * rng.next_float() - 1.0f;
+        const Color a = packed.sample_bilinear(u, v), b = floats.sample_bilinear(u, v);
+        ASSERT_TRUE(a.r == b.r && a.g == b.g && a.b == b.b)
+            << "uv " << u << " " << v << ": " << a.r << " " << a.g << " " << a.b << " vs " << b.r
+            << " " << b.g << " " << b.b;
+      }
+    }
+  }
+  // A JPEG (the shared scenes' textures are JPEGs) keeps its bytes too, and a write through a
+  // non-const accessor is what a lookup then returns, not the stale byte.
+  write_image(path("t.jpg"), pattern(16, 16, 3));
+  Image jpeg = read_image(path("t.jpg"));
+  ASSERT_TRUE(jpeg.has_bytes());
+  jpeg.pixel(3, 4)[0] = 7.0f;
+  EXPECT_EQ(jpeg.sample_bilinear(3.5f / 16.0f, 4.5f / 16.0f).r, 7.0f);
+  // Float formats have no bytes to keep.
+  write_image(path("f.hdr"), hdr_pattern(8, 8, 3));
+  EXPECT_FALSE(read_image(path("f.hdr")).has_bytes());
+}
+
 TEST_F(ImageFiles, PngLinearDataAndExposure) {
   // srgb = false keeps values as v/255 (normal maps); exposure scales before encoding.
   const Image img = pattern(16, 16, 3, 0.0f, 0.5f);

@@ -155,6 +155,37 @@ TEST(SobolSampler, RestartRepeatsValues) {
   EXPECT_EQ(sampler.next_2d(), p);
 }
 
+TEST(SobolSampler, DrawsMatchTheDefinitionAndSkipKeepsLaterPairs) {
+  // next_1d/next_2d (inline, per-pair seeds hashed once with a shared hash prefix) against
+  // sample(), the plain definition, for every pair; a second sampler skips some pairs and
+  // must still draw the others exactly as the definition says (the path tracer skips the
+  // values a vertex does not use and relies on the later pairs staying in place).
+  for (const uint64_t seed : {uint64_t{1}, uint64_t{77}, uint64_t{0xdeadbeefcafeULL}}) {
+    const auto seed32 = static_cast<uint32_t>(hash_mix(seed) >> 32u);
+    SobolSampler drawn(seed), skipping(seed);
+    for (const uint32_t i : {0u, 1u, 2u, 3u, 5u, 17u, 100u, 1023u, 65537u}) {
+      drawn.start_sample(i);
+      skipping.start_sample(i);
+      for (int pair = 0; pair < SobolSampler::kMaxDimensions / 2; ++pair) {
+        const float x = SobolSampler::sample(i, 2 * pair, seed32);
+        const float y = SobolSampler::sample(i, 2 * pair + 1, seed32);
+        if (pair % 2 == 0) {
+          EXPECT_EQ(drawn.next_2d(), vec2(x, y))
+              << "seed " << seed << " index " << i << " pair " << pair;
+        } else {
+          EXPECT_EQ(drawn.next_1d(), x) << "seed " << seed << " index " << i << " pair " << pair;
+        }
+        if (pair % 3 == 1) {
+          skipping.skip();
+        } else {
+          EXPECT_EQ(skipping.next_1d(), x)
+              << "after skips: seed " << seed << " index " << i << " pair " << pair;
+        }
+      }
+    }
+  }
+}
+
 TEST(SobolSampler, PairsAreDecorrelated) {
   // Component 0 of pair 0 against component 0 of pair 1. Without the per-pair index shuffle
   // these would be two scrambles of the same van der Corput point, so each 1/16 column

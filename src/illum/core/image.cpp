@@ -26,6 +26,13 @@ Image::Image(int width, int height, int channels, float fill)
   data_.assign(static_cast<size_t>(width) * height * channels, fill);
 }
 
+void Image::keep_bytes(std::vector<uint8_t> bytes, const float* byte_values) {
+  ILLUM_CHECK(bytes.size() == data_.size() && byte_values, "{} bytes for {} values", bytes.size(),
+              data_.size());
+  bytes_ = std::move(bytes);
+  byte_values_ = byte_values;
+}
+
 Color Image::rgb(int x, int y) const {
   const float* p = pixel(x, y);
   return channels_ >= 3 ? Color(p[0], p[1], p[2]) : Color(p[0]);

@@ -3,6 +3,7 @@
 // or OpenEXR, so the decoder sees exactly the bytes that were checked. Float images must hold
 // finite values.
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <cstring>
@@ -63,14 +64,33 @@ Image decode_stb_ldr(std::span<const uint8_t> bytes, const std::string& name, bo
   expect_size(name, w, h, checked_w, checked_h);
   Image image(w, h, n);
   const float scale = sixteen ? 1.0f / 65535.0f : 1.0f / 255.0f;
+  auto value = [&](float stored, bool colour) {
+    const float v = stored * scale;
+    return srgb && colour ? srgb_decode(v) : v;
+  };
   auto& out = image.data();
   for (size_t i = 0; i < out.size(); ++i) {
-    const float v = static_cast<float>(sixteen ? static_cast<const uint16_t*>(pixels.get())[i]
-                                               : static_cast<const uint8_t*>(pixels.get())[i]) *
-                    scale;
-    out[i] = srgb && !is_alpha_channel(static_cast<int>(i % static_cast<size_t>(n)), n)
-                 ? srgb_decode(v)
-                 : v;
+    const float stored = static_cast<float>(sixteen ? static_cast<const uint16_t*>(pixels.get())[i]
+                                                    : static_cast<const uint8_t*>(pixels.get())[i]);
+    out[i] = value(stored, !is_alpha_channel(static_cast<int>(i % static_cast<size_t>(n)), n));
+  }
+  if (!sixteen) {
+    // The bytes too, for texture lookups (Image::keep_bytes): each colour value is
+    // byte_values[byte], computed by the same expression as above. One table per encoding,
+    // filled once (thread-safe static initialisation) and alive for the program.
+    static const std::array<float, 256> srgb_values = [] {
+      std::array<float, 256> t{};
+      for (int b = 0; b < 256; ++b) t[b] = srgb_decode(static_cast<float>(b) * (1.0f / 255.0f));
+      return t;
+    }();
+    static const std::array<float, 256> linear_values = [] {
+      std::array<float, 256> t{};
+      for (int b = 0; b < 256; ++b) t[b] = static_cast<float>(b) * (1.0f / 255.0f);
+      return t;
+    }();
+    const auto* first = static_cast<const uint8_t*>(pixels.get());
+    image.keep_bytes(std::vector<uint8_t>(first, first + out.size()),
+                     srgb ? srgb_values.data() : linear_values.data());
   }
   return image;
 }

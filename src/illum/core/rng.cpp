@@ -61,15 +61,7 @@ void Rng::advance(int64_t delta) {
 uint64_t hash_mix(uint64_t a, uint64_t b, uint64_t c) {
   // splitmix64's finaliser applied after folding in each word, so (a, b, c) and
   // permutations of it give unrelated outputs.
-  auto fmix = [](uint64_t z) {
-    z = (z ^ (z >> 30u)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27u)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31u);
-  };
-  uint64_t h = fmix(a + 0x9e3779b97f4a7c15ULL);
-  h = fmix(h ^ (b + 0x3c6ef372fe94f82aULL));
-  h = fmix(h ^ (c + 0xdaa66d2c7ddf743fULL));
-  return h;
+  return hash_mix_last(hash_mix_prefix(a, b), c);
 }
 
 }  // namespace illum

@@ -63,6 +63,9 @@ class Bsdf {
 
   // Probability that sample() picks the diffuse lobe (Phong/Blinn; 1 for Lambert).
   float diffuse_probability() const { return p_diffuse_; }
+  // Whether sample() reads u_lobe: Phong/Blinn with both lobes, and glass. For the others
+  // any u_lobe gives the same sample, so a caller may pass 0 and save drawing it.
+  bool uses_lobe_choice() const { return type_ == MaterialType::kDielectric || p_diffuse_ < 1.0f; }
 
  private:
   // Local directions with the flip for two-sided opaque materials applied (z ≥ 0 for wo).

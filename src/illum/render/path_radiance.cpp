@@ -52,11 +52,13 @@ Color PathRadiance::incident(Ray ray, const PathVertex& from, SobolSampler& samp
     // Nothing further along this path can be counted.
     if (k_next > options_.k_max) break;
 
-    // Light sampling dimensions are drawn even when unused so that the sampler's
-    // dimensions line up between neighbouring samples.
-    const float u_light = sampler.next_1d();
-    const vec2 u_point = sampler.next_2d();
+    // Every vertex takes the same five sampler pairs (light choice, light point, lobe,
+    // direction, roulette) whether it uses them or not, so that the dimensions line up
+    // between neighbouring samples; the ones it does not use are skipped, not computed
+    // (the image is the same bytes either way).
     if (!delta && allowed(k_next)) {
+      const float u_light = sampler.next_1d();
+      const vec2 u_point = sampler.next_2d();
       Color f(0.0f);
       const std::optional<DirectLightSample> d = sample_direct(
           si.p, si.ng, u_light, u_point, /*skip_delta=*/false,
@@ -69,9 +71,16 @@ Color PathRadiance::incident(Ray ray, const PathVertex& from, SobolSampler& samp
         const float cos_theta = std::abs(glm::dot(d->wi, si.ns));
         l += beta * f * d->li * (cos_theta * d->mis_weight / d->pdf);
       }
+    } else {
+      sampler.skip();
+      sampler.skip();
     }
 
-    const float u_lobe = sampler.next_1d();
+    float u_lobe = 0.0f;
+    if (bsdf.uses_lobe_choice())
+      u_lobe = sampler.next_1d();
+    else
+      sampler.skip();
     const vec2 u_dir = sampler.next_2d();
     const std::optional<BsdfSample> bs = bsdf.sample(si.wo, u_lobe, u_dir);
     if (!bs || is_black(bs->weight)) break;
@@ -80,8 +89,10 @@ Color PathRadiance::incident(Ray ray, const PathVertex& from, SobolSampler& samp
     prev_pdf = bs->pdf;
     prev_p = si.p;
     k = k_next;
-    const float u_rr = sampler.next_1d();
-    if (bounce + 1 >= options_.rr_depth) {
+    if (bounce + 1 < options_.rr_depth) {
+      sampler.skip();
+    } else {
+      const float u_rr = sampler.next_1d();
       // Continue with probability √(max β) rather than max β (Cycles' rule): β falls by the
       // albedo at every bounce, so max β ended most paths of a dim interior after three
       // bounces while their indirect light is much of the image. Measured with
