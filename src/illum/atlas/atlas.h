@@ -29,6 +29,10 @@ struct AtlasOptions {
   float texel_size = 0.0f;        // world metres per texel; 0 = the finest that fits
   int padding = 2;                // empty texels between charts (≥ 1)
   float max_chart_angle = 45.0f;  // degrees: a chart's normals stay within this of its axis
+  // A mesh that brings its own light-map UVs (Mesh::uv1, glTF TEXCOORD_1) keeps them when
+  // they pass check_mesh_uv1 (uv1_check.h): they become that mesh's chart, scaled to the
+  // nominal density on average. false: every mesh is charted anew.
+  bool reuse_uv1 = true;
 
   // Keys: resolution, texel_size, padding, max_chart_angle. Throws Error on values out of
   // range (resolution 16..16384, texel_size ≥ 0 and finite, padding 1..16, angle (0, 89]).
