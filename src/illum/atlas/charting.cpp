@@ -492,6 +492,14 @@ std::vector<std::vector<uint32_t>> connected_parts(const MeshGeometry& g,
 
 }  // namespace
 
+void scale_to_area(Chart& chart, double world_area) {
+  if (!(chart.area > 0.0 && world_area > 0.0)) return;
+  const double f = std::sqrt(world_area / chart.area);
+  for (dvec2& c : chart.corners) c *= f;
+  chart.size *= f;
+  chart.area = world_area;
+}
+
 // Charts of one mesh in world space. A region whose projection overlaps itself (a spiral
 // ramp, coincident duplicate faces) keeps its longest breadth-first prefix that is injective
 // (injectivity is monotone in the prefix, so binary search finds it); the rest is split into
@@ -519,6 +527,9 @@ std::vector<Chart> chart_mesh(const Mesh& mesh, size_t mesh_index, const mat4& t
   auto emit = [&](Region&& region, std::vector<dvec2>&& corners) {
     const dvec3 axis = region.axis;
     Chart chart = finish_chart(index, std::move(region.triangles), std::move(corners));
+    double world = 0.0;
+    for (uint32_t t : chart.triangles) world += g.area[t];
+    scale_to_area(chart, world);
     const double rectangle = chart.size.x * chart.size.y;
     if (chart.triangles.size() < 2 || chart.area >= kMinChartFill * rectangle ||
         rectangle - chart.area <= waste_limit) {

@@ -35,6 +35,13 @@ std::string mesh_label(const Mesh& mesh, size_t index);
 std::vector<Chart> chart_mesh(const Mesh& mesh, size_t mesh_index, const mat4& transform,
                               double cos_max, double waste_limit);
 
+// Scales a chart uniformly so that its area is `world_area`: a projected chart loses
+// cos θ of each triangle's area (θ its angle to the axis), and a given UV1 has a scale of
+// its own; scaled, the chart holds as many texels as its surface has at the nominal density
+// (curved surfaces are no longer packed coarser than flat ones). The angle limit bounds
+// each triangle's density to [cos θmax, 1 / cos θmax] of the nominal one.
+void scale_to_area(Chart& chart, double world_area);
+
 // Texel cells a chart of `size` metres reserves at texel size `s`.
 ivec2 cells_of(const dvec2& size, double s);
 // Where a chart sits in its cells (texels from the cells' first corner).
