@@ -77,8 +77,7 @@ Mesh sphere_mesh(const std::string& name, vec3 centre, float radius, int stacks,
   auto ring = [&](int i, int j) { return uint32_t(1 + (i - 1) * slices + (j % slices)); };
   for (int j = 0; j < slices; ++j) {
     mesh.indices.insert(mesh.indices.end(), {0u, ring(1, j + 1), ring(1, j)});
-    mesh.indices.insert(mesh.indices.end(),
-                        {bottom, ring(stacks - 1, j), ring(stacks - 1, j + 1)});
+    mesh.indices.insert(mesh.indices.end(), {bottom, ring(stacks - 1, j), ring(stacks - 1, j + 1)});
   }
   for (int i = 1; i + 1 < stacks; ++i)
     for (int j = 0; j < slices; ++j) {
@@ -104,7 +103,8 @@ Scene synthetic_scene(int64_t triangles) {
   terrain.name = "terrain";
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
-      const float x = kSide * (float(i) / float(n) - 0.5f), z = kSide * (float(j) / float(n) - 0.5f);
+      const float x = kSide * (float(i) / float(n) - 0.5f),
+                  z = kSide * (float(j) / float(n) - 0.5f);
       terrain.positions.push_back(vec3(x, terrain_height(x, z), z));
       terrain.normals.push_back(vec3(0.0f, 1.0f, 0.0f));  // the atlas uses face normals
     }
@@ -136,14 +136,10 @@ Scene synthetic_scene(int64_t triangles) {
 }
 
 nlohmann::json density_json(const atlas::DensityStats& d) {
-  return {{"triangles", d.triangles},
-          {"world_area_m2", d.world_area},
-          {"nominal_texels", d.nominal_texels},
-          {"uv_texels", d.uv_texels},
-          {"mean_density", d.mean_density},
-          {"min_density", d.min_density},
-          {"max_density", d.max_density},
-          {"rms_l2_stretch", d.rms_l2_stretch},
+  return {{"triangles", d.triangles},           {"world_area_m2", d.world_area},
+          {"nominal_texels", d.nominal_texels}, {"uv_texels", d.uv_texels},
+          {"mean_density", d.mean_density},     {"min_density", d.min_density},
+          {"max_density", d.max_density},       {"rms_l2_stretch", d.rms_l2_stretch},
           {"max_anisotropy", d.max_anisotropy}};
 }
 
@@ -164,8 +160,8 @@ nlohmann::json bench_scene(Scene scene, const AtlasArgs& a) {
     cpu.push_back(cpu_seconds() - cpu0);
   }
   const double load_after = load_average();
-  const atlas::AtlasStats stats = atlas::measure_atlas(scene, built);
   atlas::apply_atlas(scene, built);
+  const atlas::AtlasStats stats = atlas::measure_atlas(scene, built);
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, built.width, built.height);
   const double atlas_texels = double(built.width) * built.height;
   std::printf(

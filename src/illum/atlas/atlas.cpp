@@ -8,7 +8,9 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <span>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -16,6 +18,7 @@
 #include <tbb/parallel_for.h>
 
 #include "illum/atlas/charts.h"
+#include "illum/atlas/uv1_check.h"
 #include "illum/core/error.h"
 #include "illum/core/log.h"
 #include "illum/scene/mesh_processing.h"
@@ -34,6 +37,7 @@ AtlasOptions AtlasOptions::from_params(const Params& params) {
     throw Error(fmt::format("{} = {} must be ≥ 0 (metres per texel; 0 = the finest that fits)",
                             params.where("texel_size"), o.texel_size));
   o.padding = params.get_int_in("padding", o.padding, 1, 16);
+  o.reuse_uv1 = params.get<bool>("reuse_uv1", o.reuse_uv1);
   o.max_chart_angle = params.get<float>("max_chart_angle", o.max_chart_angle);
   if (!(o.max_chart_angle > 0.0f && o.max_chart_angle <= 89.0f))
     throw Error(fmt::format("{} = {} is outside (0, 89] degrees", params.where("max_chart_angle"),
@@ -128,26 +132,64 @@ Atlas build_atlas(const Scene& scene, const AtlasOptions& options) {
   });
   const double waste_limit =
       kMaxChartWaste * std::accumulate(mesh_area.begin(), mesh_area.end(), 0.0);
+  // A mesh's own UV1, when valid, is its chart; an invalid one is a warning and the mesh is
+  // charted anew (README.md "Given UV1" says why this is no error).
+  std::vector<std::string> uv1_problem(scene.meshes.size());
+  std::vector<uint8_t> reused(scene.meshes.size(), 0);
   tbb::parallel_for(size_t(0), scene.meshes.size(), [&](size_t m) {
     if (instance_of[m] < 0) return;
+    const Mesh& mesh = scene.meshes[m];
+    const mat4& transform = scene.instances[instance_of[m]].transform;
     try {
-      per_mesh[m] = chart_mesh(scene.meshes[m], m, scene.instances[instance_of[m]].transform,
-                               cos_max, waste_limit);
+      if (options.reuse_uv1 && !mesh.uv1.empty()) {
+        if (const std::optional<std::string> problem = mesh_uv1_problem(mesh, transform)) {
+          uv1_problem[m] = *problem;
+        } else {
+          per_mesh[m].push_back(chart_from_uv1(mesh, m, transform));
+          reused[m] = 1;
+          return;
+        }
+      }
+      per_mesh[m] = chart_mesh(mesh, m, transform, cos_max, waste_limit);
     } catch (...) {
       failure[m] = std::current_exception();
     }
   });
   for (const std::exception_ptr& e : failure)
     if (e) std::rethrow_exception(e);
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    if (!uv1_problem[m].empty())
+      log::warn("atlas: the UV1 of {} cannot be its light-map layout ({}): charted anew",
+                mesh_label(scene.meshes[m], m), uv1_problem[m]);
   std::vector<Chart> charts;
-  for (std::vector<Chart>& list : per_mesh)
-    for (Chart& c : list) charts.push_back(std::move(c));
+  bool any_free = false;  // a chart at the atlas's texel size
+  float smallest_own = 0.0f;
+  for (size_t m = 0; m < per_mesh.size(); ++m) {
+    const float own =
+        instance_of[m] >= 0 ? scene.instances[instance_of[m]].lightmap_texel_size : 0.0f;
+    if (!per_mesh[m].empty() && own > 0.0f)
+      smallest_own = smallest_own > 0.0f ? std::min(smallest_own, own) : own;
+    for (Chart& c : per_mesh[m]) {
+      c.texel_size = own;
+      any_free = any_free || !(own > 0.0f);
+      charts.push_back(std::move(c));
+    }
+  }
 
   const int resolution = options.resolution;
   double s = options.texel_size;
+  // Every chart at its mesh's own texel size: nothing to search; the atlas reports the
+  // given size, else the finest of the meshes'.
+  if (!any_free && !(s > 0.0)) s = smallest_own;
   std::vector<ivec2> origins;
   if (!charts.empty()) {
-    if (s > 0.0) {
+    if (s > 0.0 && !any_free) {
+      if (!pack_charts(charts, s, resolution, options.padding, &origins))
+        throw Error(fmt::format(
+            "atlas: {} charts do not fit a {}×{} atlas (padding {}) at the texel sizes their "
+            "scene file gives them (\"lightmap\": {{\"texel_size\": ...}}, the finest {} m)",
+            charts.size(), resolution, resolution, options.padding, smallest_own));
+    } else if (s > 0.0) {
       if (!pack_charts(charts, s, resolution, options.padding, &origins)) {
         const float finest = finest_texel_size(charts, resolution, options.padding);
         throw Error(
@@ -188,15 +230,16 @@ Atlas build_atlas(const Scene& scene, const AtlasOptions& options) {
   const double inv_resolution = 1.0 / resolution;
   for (size_t c = 0; c < charts.size(); ++c) {
     const Chart& chart = charts[c];
-    const ivec2 cells = cells_of(chart.size, s);
+    const double cs = chart.texel(s);
+    const ivec2 cells = cells_of(chart.size, cs);
     atlas.charts[c] = {chart.mesh, origins[c].x, origins[c].y, cells.x, cells.y};
-    const dvec2 offset = dvec2(origins[c]) + offset_in_cells(chart, cells, s);
+    const dvec2 offset = dvec2(origins[c]) + offset_in_cells(chart, cells, cs);
     for (size_t i = 0; i < chart.triangles.size(); ++i) {
       const uint32_t t = chart.triangles[i];
       chart_of[chart.mesh][t] = uint32_t(c);
       for (int k = 0; k < 3; ++k)
         corner_uv[chart.mesh][3 * t + k] =
-            vec2((offset + chart.corners[3 * i + k] / s) * inv_resolution);
+            vec2((offset + chart.corners[3 * i + k] / cs) * inv_resolution);
     }
   }
 
@@ -208,6 +251,7 @@ Atlas build_atlas(const Scene& scene, const AtlasOptions& options) {
     MeshLayout& layout = atlas.meshes[m];
     layout.source_vertex_count = uint32_t(mesh.positions.size());
     layout.triangle_chart = std::move(chart_of[m]);
+    layout.reused_uv1 = reused[m] != 0;
     layout.indices.resize(mesh.indices.size());
     std::unordered_map<uint64_t, uint32_t> vertex_of;
     vertex_of.reserve(mesh.indices.size());
@@ -227,6 +271,13 @@ Atlas build_atlas(const Scene& scene, const AtlasOptions& options) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   log::debug("atlas: {} charts in {}×{} at {:.4g} m per texel ({:.2f} s)", charts.size(),
              resolution, resolution, s, seconds);
+  return atlas;
+}
+
+Atlas chart_scene(Scene& scene, const AtlasOptions& options) {
+  make_meshes_unique(scene);
+  Atlas atlas = build_atlas(scene, options);
+  apply_atlas(scene, atlas);
   return atlas;
 }
 

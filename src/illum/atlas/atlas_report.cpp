@@ -60,9 +60,6 @@ struct Accumulator {
 }  // namespace
 
 AtlasStats measure_atlas(const Scene& scene, const Atlas& atlas) {
-  if (atlas.meshes.size() != scene.meshes.size())
-    throw Error(fmt::format("measure_atlas: the atlas has {} meshes, the scene '{}' has {}",
-                            atlas.meshes.size(), scene.name, scene.meshes.size()));
   AtlasStats out;
   out.charts = atlas.chart_count;
   for (const AtlasChart& c : atlas.charts) out.chart_texels += double(c.width) * c.height;
@@ -76,12 +73,10 @@ AtlasStats measure_atlas(const Scene& scene, const Atlas& atlas) {
   out.meshes.resize(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    const MeshLayout& layout = atlas.meshes[m];
     if (instance_of[m] < 0) continue;
-    if (layout.indices.size() != mesh.indices.size() ||
-        layout.source_vertex.size() != layout.uv1.size())
-      throw Error(
-          fmt::format("measure_atlas: the atlas does not match mesh '{}' (#{})", mesh.name, m));
+    if (mesh.uv1.size() != mesh.positions.size() || mesh.indices.size() % 3 != 0)
+      throw Error(fmt::format("measure_atlas: mesh '{}' (#{}) has {} uv1 for {} vertices",
+                              mesh.name, m, mesh.uv1.size(), mesh.positions.size()));
     const Instance& instance = scene.instances[size_t(instance_of[m])];
     const double s =
         instance.lightmap_texel_size > 0.0f ? instance.lightmap_texel_size : atlas.texel_size;
@@ -95,13 +90,12 @@ AtlasStats measure_atlas(const Scene& scene, const Atlas& atlas) {
       dvec2 u[3];
       uint32_t src[3];
       for (int k = 0; k < 3; ++k) {
-        const uint32_t v = layout.indices[3 * t + size_t(k)];
-        if (v >= layout.uv1.size() || layout.source_vertex[v] >= mesh.positions.size())
-          throw Error(
-              fmt::format("measure_atlas: the atlas does not match mesh '{}' (#{})", mesh.name, m));
-        src[k] = layout.source_vertex[v];
+        src[k] = mesh.indices[3 * t + size_t(k)];
+        if (src[k] >= mesh.positions.size())
+          throw Error(fmt::format("measure_atlas: mesh '{}' (#{}) uses vertex {} of {}", mesh.name,
+                                  m, src[k], mesh.positions.size()));
         w[k] = dvec3(transform * glm::dvec4(dvec3(mesh.positions[src[k]]), 1.0));
-        u[k] = dvec2(layout.uv1[v]) * size;
+        u[k] = dvec2(mesh.uv1[src[k]]) * size;
       }
       if (is_degenerate_triangle(vec3(w[0]), vec3(w[1]), vec3(w[2]), src[0], src[1], src[2],
                                  scale_sq))

@@ -39,9 +39,8 @@ struct AtlasStats {
   std::vector<DensityStats> meshes;  // per Scene::meshes entry (empty stats: no instance)
 };
 
-// `scene` is the scene the atlas was built from (meshes unique; before apply_atlas), so
-// world positions come from its meshes and instances. Throws Error when the atlas does not
-// match it (mesh, vertex or index counts).
+// `scene` carries the atlas (apply_atlas done: Mesh::uv1 is its layout); the atlas gives
+// the size, the texel size and the charts. Throws Error for a mesh without uv1.
 AtlasStats measure_atlas(const Scene& scene, const Atlas& atlas);
 
 }  // namespace illum::atlas

@@ -492,6 +492,32 @@ std::vector<std::vector<uint32_t>> connected_parts(const MeshGeometry& g,
 
 }  // namespace
 
+Chart chart_from_uv1(const Mesh& mesh, size_t mesh_index, const mat4& transform) {
+  const glm::dmat4 m(transform);
+  std::vector<uint32_t> triangles(mesh.triangle_count());
+  std::iota(triangles.begin(), triangles.end(), 0u);
+  std::vector<dvec2> corners(mesh.indices.size());
+  double world = 0.0;
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    dvec3 p[3];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = mesh.indices[3 * t + size_t(k)];
+      corners[3 * t + size_t(k)] = dvec2(mesh.uv1[v]);
+      p[k] = dvec3(m * glm::dvec4(dvec3(mesh.positions[v]), 1.0));
+    }
+    world += 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+  }
+  Chart chart = finish_chart(int(mesh_index), std::move(triangles), std::move(corners));
+  // Mirrored triangles are legitimate in a given UV1: its area is the sum of magnitudes.
+  chart.area = 0.0;
+  for (size_t i = 0; i < chart.triangles.size(); ++i) {
+    const dvec2* c = &chart.corners[3 * i];
+    chart.area += 0.5 * std::abs(cross2(c[1] - c[0], c[2] - c[0]));
+  }
+  scale_to_area(chart, world);
+  return chart;
+}
+
 void scale_to_area(Chart& chart, double world_area) {
   if (!(chart.area > 0.0 && world_area > 0.0)) return;
   const double f = std::sqrt(world_area / chart.area);

@@ -23,6 +23,11 @@ struct Chart {
   std::vector<dvec2> corners;  // 3 per triangle, in `triangles` order
   dvec2 size{0.0};
   double area = 0.0;  // of the projected triangles, m²
+  // The mesh's own texel size (scene file "lightmap": {"texel_size"}); 0: the atlas's.
+  double texel_size = 0.0;
+
+  // Metres per texel of this chart when the atlas's texel size is s.
+  double texel(double s) const { return texel_size > 0.0 ? texel_size : s; }
 
   double fill() const { return size.x * size.y > 0.0 ? area / (size.x * size.y) : 1.0; }
 };
@@ -42,14 +47,21 @@ std::vector<Chart> chart_mesh(const Mesh& mesh, size_t mesh_index, const mat4& t
 // each triangle's density to [cos θmax, 1 / cos θmax] of the nominal one.
 void scale_to_area(Chart& chart, double world_area);
 
+// A mesh's own UV1 (checked by mesh_uv1_problem) as its one chart: turned to its
+// minimal-area rectangle and scaled to the nominal density on average (the density of
+// each triangle is the author's).
+Chart chart_from_uv1(const Mesh& mesh, size_t mesh_index, const mat4& transform);
+
 // Texel cells a chart of `size` metres reserves at texel size `s`.
 ivec2 cells_of(const dvec2& size, double s);
 // Where a chart sits in its cells (texels from the cells' first corner).
 dvec2 offset_in_cells(const Chart& chart, const ivec2& cells, double s);
-// Packs every chart at texel size `s`: origins[c] is the first texel of chart c's cells.
+// Packs every chart at texel size `s` (charts with a texel size of their own at theirs):
+// origins[c] is the first texel of chart c's cells.
 bool pack_charts(const std::vector<Chart>& charts, double s, int resolution, int padding,
                  std::vector<ivec2>* origins);
-// The finest float texel size that packs (0 if none does).
+// The finest float texel size that packs (0 if none does). Charts with their own texel
+// size keep it; at least one chart must have none.
 float finest_texel_size(const std::vector<Chart>& charts, int resolution, int padding);
 
 }  // namespace illum::atlas::detail

@@ -235,9 +235,10 @@ bool pack_charts(const std::vector<Chart>& charts, double s, int resolution, int
   std::vector<Item> items(charts.size());
   double area = 0.0;  // a lower bound of the area needed (holes excluded)
   for (size_t c = 0; c < charts.size(); ++c) {
-    const dvec2 texels = charts[c].size / s;
+    const double cs = charts[c].texel(s);
+    const dvec2 texels = charts[c].size / cs;
     if (texels.x > resolution || texels.y > resolution) return false;
-    items[c] = {cells_of(charts[c].size, s) + padding, uint32_t(c)};
+    items[c] = {cells_of(charts[c].size, cs) + padding, uint32_t(c)};
     area += std::min(1.0, charts[c].fill()) * items[c].size.x * items[c].size.y;
   }
   if (area > double(bin + padding) * (bin + padding)) return false;
@@ -276,7 +277,7 @@ bool pack_charts(const std::vector<Chart>& charts, double s, int resolution, int
     const Chart& chart = charts[item.chart];
     const ivec2 cells = item.size - padding;
     if (chart.fill() < kHostFill && cells.x * cells.y >= kMinHostCells)
-      for (const glm::ivec4& r : free_rectangles(chart, cells, s, padding))
+      for (const glm::ivec4& r : free_rectangles(chart, cells, chart.texel(s), padding))
         holes.push_back({origin + ivec2(r.x, r.y), SkylinePacker(r.z, r.w)});
   }
   return true;
@@ -286,9 +287,12 @@ namespace {
 
 // The finest texel size that packs, by bisection on log s between the area bound (nothing
 // finer can fit) and the size at which every chart is one cell. Returns 0 if even that fails.
+// Charts with their own texel size take the same space at every s: the bounds come from the
+// others.
 double finest_search(const std::vector<Chart>& charts, int resolution, int padding) {
   double area = 0.0, largest = 0.0;  // the triangles' area: no packing needs less
   for (const Chart& c : charts) {
+    if (c.texel_size > 0.0) continue;
     area += c.area;
     largest = std::max(largest, std::max(c.size.x, c.size.y));
   }
