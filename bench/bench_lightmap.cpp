@@ -140,11 +140,7 @@ bool same_covered_texels(const atlas::TexelRaster& raster, const Image& a, const
 nlohmann::json bench_scene(const std::string& name, const LightmapArgs& a) {
   Scene scene = load_scene(name);
   const bool sky_added = add_sky_if_unlit(scene);
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions atlas_options;
-  atlas_options.resolution = atlas_resolution(a, name);
-  const atlas::Atlas atlas = atlas::build_atlas(scene, atlas_options);
-  atlas::apply_atlas(scene, atlas);
+  const atlas::Atlas atlas = atlas::chart_scene(scene, {.resolution = atlas_resolution(a, name)});
   const RayTracer tracer(scene);
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
   if (raster.covered() == 0) throw Error(fmt::format("{}: the atlas covers no texel", name));

@@ -128,11 +128,7 @@ int run_prt(SuiteArgs args) {
   const int threads = a.threads > 0 ? a.threads : ThreadLimit::hardware_threads();
 
   Scene scene = load_scene(a.scene);
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions atlas_options;
-  atlas_options.resolution = a.resolution;
-  const atlas::Atlas atl = atlas::build_atlas(scene, atlas_options);
-  atlas::apply_atlas(scene, atl);
+  const atlas::Atlas atl = atlas::chart_scene(scene, {.resolution = a.resolution});
   const RayTracer tracer(scene);
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atl.width, atl.height);
   const size_t covered = raster.covered();

@@ -106,11 +106,7 @@ int run_radiosity(SuiteArgs args) {
 
   ThreadLimit limit(a.threads);
   Scene scene = load_scene(a.scene);
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions atlas_options;
-  atlas_options.resolution = a.resolution;
-  const atlas::Atlas atlas = atlas::build_atlas(scene, atlas_options);
-  atlas::apply_atlas(scene, atlas);
+  const atlas::Atlas atlas = atlas::chart_scene(scene, {.resolution = a.resolution});
   const RayTracer tracer(scene);
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
 

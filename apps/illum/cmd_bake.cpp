@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "illum/atlas/atlas.h"
+#include "illum/atlas/atlas_report.h"
 #include "illum/atlas/lightmap_file.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/bake_memory.h"
@@ -44,6 +45,7 @@ struct BakeArgs {
   std::string content = "all";
   int resolution = 512;
   float texel_size = 0.0f;
+  bool regenerate_uv1 = false;
   int spp = 256;
   int max_bounces = 8;
   uint64_t seed = 0;
@@ -60,6 +62,25 @@ struct BakeArgs {
   int vq = 0;                     // prt only
   std::string mode = "shadowed";  // prt only
 };
+
+// One line when meshes kept their own UV1: how many, and the texel density they got (their
+// layout's own, scaled to the nominal density on average: atlas/atlas_report.h).
+void report_reused_uv1(const Scene& scene, const atlas::Atlas& atlas) {
+  const atlas::AtlasStats stats = atlas::measure_atlas(scene, atlas);
+  int reused = 0;
+  double lo = 0.0, hi = 0.0;
+  for (size_t m = 0; m < atlas.meshes.size(); ++m) {
+    if (!atlas.meshes[m].reused_uv1 || stats.meshes[m].triangles == 0) continue;
+    lo = reused ? std::min(lo, stats.meshes[m].min_density) : stats.meshes[m].min_density;
+    hi = reused ? std::max(hi, stats.meshes[m].max_density) : stats.meshes[m].max_density;
+    ++reused;
+  }
+  if (reused > 0)
+    std::fprintf(stderr,
+                 "illum: bake: kept the UV1 of %d mesh%s (texel density %.3g to %.3g of the "
+                 "nominal; --regenerate-uv1 charts them anew)\n",
+                 reused, reused == 1 ? "" : "es", lo, hi);
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -145,9 +166,10 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
     // The interreflected transfer is one shooting loop over every patch; the other modes
     // are not split yet either.
     refuse_with_several_ranks(true, "bake --kind prt", "its work is not split across ranks");
-    PrtBakeRequest request{args.scene,      args.output, args.mode,    args.resolution,
-                           args.spp,        args.bands,  args.threads, args.vq,
-                           args.texel_size, args.seed,   args.params,  args.load};
+    PrtBakeRequest request{args.scene,         args.output, args.mode,    args.resolution,
+                           args.spp,           args.bands,  args.threads, args.vq,
+                           args.texel_size,    args.seed,   args.params,  args.load,
+                           args.regenerate_uv1};
     run_prt_bake(request);
     return;
   }
@@ -193,8 +215,10 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                {"spp", "--spp"},
                                {"max_bounces", "--bounces"},
                                {"seed", "--seed"},
-                               {"threshold", "--threshold"}});
+                               {"threshold", "--threshold"},
+                               {"reuse_uv1", "--regenerate-uv1"}});
   j["resolution"] = args.resolution;
+  j["reuse_uv1"] = !args.regenerate_uv1;
   j["texel_size"] = args.texel_size;
   j["basis"] = args.basis;
   j["content"] = args.content;
@@ -227,9 +251,9 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   const size_t scene_triangles = scene.triangle_count();
 
   auto t0 = std::chrono::steady_clock::now();
-  atlas::make_meshes_unique(scene);
   atlas::LightmapSet set;
-  set.atlas = atlas::build_atlas(scene, atlas_options);
+  set.atlas = atlas::chart_scene(scene, atlas_options);
+  report_reused_uv1(scene, set.atlas);
   {
     // Before the raster and the bake allocate per texel: a bake the machine cannot hold is
     // refused with the estimate rather than killed an hour later (bake/bake_memory.h).
@@ -245,7 +269,6 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
     memory.scene_triangles = static_cast<int64_t>(scene_triangles);
     bake::check_bake_memory(bake::estimate_bake_memory(memory), bake::machine_memory());
   }
-  atlas::apply_atlas(scene, set.atlas);
   const double atlas_s = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -416,6 +439,9 @@ void add_bake_command(CLI::App& app) {
                   "metres per texel (0: the finest that fits the resolution)")
       ->transform(number(0.0f, FLT_MAX))
       ->capture_default_str();
+  cmd->add_flag("--regenerate-uv1", args->regenerate_uv1,
+                "chart every mesh anew; without it a mesh's own light-map UVs (glTF "
+                "TEXCOORD_1) are kept when valid (an invalid set is a warning and charted anew)");
   cmd->add_option("--spp", args->spp,
                   "hemisphere samples per texel (probes: sphere samples per probe)")
       ->transform(number(1, INT_MAX))

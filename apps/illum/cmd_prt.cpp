@@ -121,8 +121,10 @@ void run_prt_bake(const PrtBakeRequest& args) {
                                {"spp", "--spp"},
                                {"bands", "--bands"},
                                {"mode", "--mode"},
-                               {"seed", "--seed"}});
+                               {"seed", "--seed"},
+                               {"reuse_uv1", "--regenerate-uv1"}});
   j["resolution"] = args.resolution;
+  j["reuse_uv1"] = !args.regenerate_uv1;
   j["texel_size"] = args.texel_size;
   j["spp"] = args.spp;
   j["bands"] = args.bands;
@@ -139,9 +141,7 @@ void run_prt_bake(const PrtBakeRequest& args) {
   bake::PrtSet set;
   set.scene_triangles = scene.triangle_count();
   auto t0 = std::chrono::steady_clock::now();
-  atlas::make_meshes_unique(scene);
-  set.atlas = atlas::build_atlas(scene, atlas_options);
-  atlas::apply_atlas(scene, set.atlas);
+  set.atlas = atlas::chart_scene(scene, atlas_options);
   const double atlas_s = seconds_since(t0);
   const RayTracer tracer(scene);
   const atlas::TexelRaster raster =

@@ -28,6 +28,7 @@ struct PrtBakeRequest {
   uint64_t seed = 0;
   std::vector<std::string> params;
   LoadOptions load;
+  bool regenerate_uv1 = false;  // chart every mesh anew, even one with a valid UV1
 };
 void run_prt_bake(const PrtBakeRequest& request);
 #ifdef ILLUM_HAVE_FRAME_COMMAND

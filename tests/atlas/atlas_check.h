@@ -106,14 +106,19 @@ inline std::vector<int> instance_of_meshes(const Scene& scene) {
 //  - no two triangles overlap in uv1 (same chart or not) by more than 1e-3 + 4δ texels,
 //    δ = 2⁻²⁴·W the uv1 rounding (float spacing near 1 is 2⁻²⁴; 1.2e-4 texel at W = 2048):
 //    rounding of both triangles' vertices can make exactly shared seams disagree by ~2δ;
-//  - texel density: uv1 area (texels²) = world area / s² · cos θ, θ the angle between the
-//    triangle and its chart's projection axis, so it lies in world/s² × [cos θmax, 1], up to
-//    the uv1 rounding: a vertex moved by δ = 2⁻²⁴·W texels changes the area by at most
-//    δ·perimeter, so the tolerance per triangle is 2δ·P texels² (+1e-6 relative for the
-//    float conversions of world positions). Slivers whose uv1 area is below that bound are
-//    not tested for overlaps (their orientation is below what float uv1 can hold).
-inline AtlasReport check_atlas(const Scene& scene, const Atlas& atlas,
-                               const AtlasOptions& options) {
+//  - texel density: each chart is scaled to the nominal density, so the uv1 areas of its
+//    triangles (texels²) add up to their world areas / s², up to the uv1 rounding: a vertex
+//    moved by δ = 2⁻²⁴·W texels changes a triangle's area by at most δ·perimeter, so the
+//    tolerance per triangle is 2δ·P texels² (+1e-6 relative for the float conversions of
+//    world positions), summed over the chart; and a triangle at angle θ to its chart's
+//    axis has uv1 area = world area / s² · cos θ · f², f² ∈ [1, 1/cos θmax] the chart's
+//    scale, so it lies in world/s² × [cos θmax, 1/cos θmax] ± its tolerance. s is the
+//    mesh's own texel size where its instance has one (Instance::lightmap_texel_size).
+//    Meshes in `given_uv1` kept their own UV1: only the chart sum holds for them. Slivers
+//    whose uv1 area is below that bound are not tested for overlaps (their orientation is
+//    below what float uv1 can hold).
+inline AtlasReport check_atlas(const Scene& scene, const Atlas& atlas, const AtlasOptions& options,
+                               const std::vector<int>& given_uv1 = {}) {
   AtlasReport report;
   const int W = atlas.width, H = atlas.height;
   EXPECT_EQ(W, options.resolution);
@@ -129,7 +134,9 @@ inline AtlasReport check_atlas(const Scene& scene, const Atlas& atlas,
   EXPECT_EQ(atlas.meshes.size(), scene.meshes.size());
   if (atlas.meshes.size() != scene.meshes.size()) return report;
   const int pad = options.padding;
-  const double s = atlas.texel_size;
+  // Per chart: Σ uv1 area, Σ world area / s², Σ rounding tolerance (texels²).
+  std::vector<double> chart_uv(atlas.charts.size(), 0.0), chart_world(atlas.charts.size(), 0.0),
+      chart_rounding(atlas.charts.size(), 0.0);
   const double delta = std::ldexp(1.0, -24) * std::max(W, H);  // uv1 rounding, texels
   const double cos_max = std::cos(double(options.max_chart_angle) * M_PI / 180.0);
   const std::vector<int> instance_of = instance_of_meshes(scene);
@@ -188,6 +195,10 @@ inline AtlasReport check_atlas(const Scene& scene, const Atlas& atlas,
       return report;
     const glm::dmat4 transform(instance_of[m] >= 0 ? scene.instances[instance_of[m]].transform
                                                    : mat4(1.0f));
+    const double s = instance_of[m] >= 0 && scene.instances[instance_of[m]].lightmap_texel_size > 0
+                         ? double(scene.instances[instance_of[m]].lightmap_texel_size)
+                         : double(atlas.texel_size);
+    const bool own_uv1 = std::find(given_uv1.begin(), given_uv1.end(), int(m)) != given_uv1.end();
     Bounds3 bounds;
     std::vector<dvec3> world(mesh.positions.size());
     for (size_t v = 0; v < world.size(); ++v) {
@@ -251,13 +262,18 @@ inline AtlasReport check_atlas(const Scene& scene, const Atlas& atlas,
       const double perimeter = glm::length(tri.p[1] - tri.p[0]) + glm::length(tri.p[2] - tri.p[1]) +
                                glm::length(tri.p[0] - tri.p[2]);
       const double rounding = 2.0 * delta * perimeter + 1e-6 * world_area;
-      if (uv_area < world_area * cos_max - rounding || uv_area > world_area + rounding)
+      chart_uv[tri.chart] += std::abs(uv_area);
+      chart_world[tri.chart] += world_area;
+      chart_rounding[tri.chart] += rounding;
+      if (!own_uv1 &&
+          (uv_area < world_area * cos_max - rounding || uv_area > world_area / cos_max + rounding))
         fail(fmt::format(
             "mesh {} triangle {}: uv1 area {} texels² is outside [{}, {}] (world "
-            "area × [cos θmax, 1]) ± {}; world ({}, {}, {}) ({}, {}, {}) ({}, {}, "
+            "area × [cos θmax, 1/cos θmax]) ± {}; world ({}, {}, {}) ({}, {}, {}) ({}, {}, "
             "{}), uv1·size ({}, {}) ({}, {}) ({}, {})",
-            m, t, uv_area, world_area * cos_max, world_area, rounding, a.x, a.y, a.z, b.x, b.y, b.z,
-            c.x, c.y, c.z, tri.p[0].x, tri.p[0].y, tri.p[1].x, tri.p[1].y, tri.p[2].x, tri.p[2].y));
+            m, t, uv_area, world_area * cos_max, world_area / cos_max, rounding, a.x, a.y, a.z, b.x,
+            b.y, b.z, c.x, c.y, c.z, tri.p[0].x, tri.p[0].y, tri.p[1].x, tri.p[1].y, tri.p[2].x,
+            tri.p[2].y));
       // The printed range: triangles large enough for rounding not to matter.
       if (uv_area > 1e4 * rounding) {
         const double ratio = world_area / uv_area;
@@ -271,6 +287,15 @@ inline AtlasReport check_atlas(const Scene& scene, const Atlas& atlas,
       tris.push_back(tri);
     }
   }
+
+  // Every chart at the nominal density: its uv1 area is its world area / s².
+  for (size_t c = 0; c < atlas.charts.size(); ++c)
+    if (std::abs(chart_uv[c] - chart_world[c]) > chart_rounding[c])
+      fail(
+          fmt::format("chart {} (mesh {}): uv1 area {} texels² for a world area of {} texels² "
+                      "(density {:.6f} of the nominal, tolerance ±{})",
+                      c, atlas.charts[c].mesh, chart_uv[c], chart_world[c],
+                      chart_uv[c] / chart_world[c], chart_rounding[c]));
 
   // Touched texels of different charts are ≥ pad apart (Chebyshev distance > pad).
   for (int y = 0; y < H; ++y)

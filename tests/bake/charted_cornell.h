@@ -17,9 +17,7 @@ namespace illum::test {
 // Any scene charted by the atlas (every mesh gets uv1), with its tracer and texel raster.
 struct ChartedScene {
   ChartedScene(Scene s, const atlas::AtlasOptions& options) : scene(std::move(s)) {
-    atlas::make_meshes_unique(scene);
-    const atlas::Atlas a = atlas::build_atlas(scene, options);
-    atlas::apply_atlas(scene, a);
+    const atlas::Atlas a = atlas::chart_scene(scene, options);
     texel_size = a.texel_size;
     tracer = std::make_unique<RayTracer>(scene);
     raster = atlas::rasterize_texels(scene, a.width, a.height);

@@ -31,11 +31,7 @@ struct Baked {
 
 Baked scene_with_atlas(const std::string& name, int resolution) {
   Baked b{load_scene(name), {}};
-  atlas::make_meshes_unique(b.scene);
-  atlas::AtlasOptions o;
-  o.resolution = resolution;
-  b.atlas = atlas::build_atlas(b.scene, o);
-  atlas::apply_atlas(b.scene, b.atlas);
+  b.atlas = atlas::chart_scene(b.scene, {.resolution = resolution});
   return b;
 }
 

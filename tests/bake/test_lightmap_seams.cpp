@@ -50,12 +50,7 @@ struct TwoRooms {
     light.position = vec3(0.5f, 0.7f, 0.1f);
     light.intensity = Color(1.0f);
     scene.lights.push_back(light);
-    atlas::make_meshes_unique(scene);
-    atlas::AtlasOptions options;
-    options.resolution = 128;
-    options.texel_size = kTexel;
-    const atlas::Atlas a = atlas::build_atlas(scene, options);
-    atlas::apply_atlas(scene, a);
+    const atlas::Atlas a = atlas::chart_scene(scene, {.resolution = 128, .texel_size = kTexel});
     tracer = std::make_unique<RayTracer>(scene);
     raster = atlas::rasterize_texels(scene, a.width, a.height);
   }

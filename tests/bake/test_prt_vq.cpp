@@ -38,11 +38,7 @@ TEST(PrtVq, ExactWhenRepresentativesCoverTheDistinctVectors) {
 
 TEST(PrtVq, IndicesAreNearestAndTheErrorAddedToRelitLightIsBounded) {
   Scene scene = load_scene("cornell");
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions ao;
-  ao.resolution = 32;
-  const atlas::Atlas atlas = atlas::build_atlas(scene, ao);
-  atlas::apply_atlas(scene, atlas);
+  const atlas::Atlas atlas = atlas::chart_scene(scene, {.resolution = 32});
   const RayTracer tracer(scene);
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
   bake::PrtBakeOptions po;

@@ -71,11 +71,7 @@ TEST(PrtVsPath, CornellUnderABandLimitedSkyAgreesWithThePathTracer) {
   Scene scene = load_scene("cornell");
   for (Material& m : scene.materials) m.emission = Color(0.0f);
   scene.lights.clear();
-  atlas::make_meshes_unique(scene);
-  atlas::AtlasOptions atlas_options;
-  atlas_options.resolution = 64;
-  const atlas::Atlas atlas = atlas::build_atlas(scene, atlas_options);
-  atlas::apply_atlas(scene, atlas);
+  const atlas::Atlas atlas = atlas::chart_scene(scene, {.resolution = 64});
   Light env_light;
   env_light.name = "environment";
   env_light.type = LightType::kEnvironment;

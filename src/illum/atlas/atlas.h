@@ -29,9 +29,13 @@ struct AtlasOptions {
   float texel_size = 0.0f;        // world metres per texel; 0 = the finest that fits
   int padding = 2;                // empty texels between charts (≥ 1)
   float max_chart_angle = 45.0f;  // degrees: a chart's normals stay within this of its axis
+  // A mesh that brings its own light-map UVs (Mesh::uv1, glTF TEXCOORD_1) keeps them when
+  // they pass check_mesh_uv1 (uv1_check.h): they become that mesh's chart, scaled to the
+  // nominal density on average. false: every mesh is charted anew.
+  bool reuse_uv1 = true;
 
-  // Keys: resolution, texel_size, padding, max_chart_angle. Throws Error on values out of
-  // range (resolution 16..16384, texel_size ≥ 0 and finite, padding 1..16, angle (0, 89]).
+  // Keys: resolution, texel_size, padding, max_chart_angle, reuse_uv1. Throws Error on values out
+  // of range (resolution 16..16384, texel_size ≥ 0 and finite, padding 1..16, angle (0, 89]).
   static AtlasOptions from_params(const Params& params);
 };
 
@@ -62,6 +66,8 @@ struct MeshLayout {
   // Atlas::charts index of each triangle (kNoChart: mesh without instance); may be empty
   // in an atlas made by hand.
   std::vector<uint32_t> triangle_chart;
+  // The mesh's own UV1 was kept (AtlasOptions::reuse_uv1); not stored in the atlas file.
+  bool reused_uv1 = false;
 };
 
 struct Atlas {
@@ -85,6 +91,11 @@ Atlas build_atlas(const Scene& scene, const AtlasOptions& options);
 // Rewrites the scene's meshes with the atlas layout (splits seam vertices, fills uv1).
 // Throws Error if the atlas does not match the scene (mesh count, vertex or triangle counts).
 void apply_atlas(Scene& scene, const Atlas& atlas);
+
+// The charting every baker does first: make_meshes_unique, build_atlas, apply_atlas. The
+// scene's meshes then carry the atlas's uv1; the atlas is returned for the light-map folder
+// and the texel raster.
+Atlas chart_scene(Scene& scene, const AtlasOptions& options);
 
 // Binary file (little-endian, magic "ILLUMATL", version 1). load_atlas throws Error on a
 // missing, truncated or malformed file; save_atlas writes a temporary file and renames it.

@@ -1,9 +1,10 @@
 // Checks of a light-map UV set (Mesh::uv1) a scene brings with it, before anything reuses
-// it instead of charting anew (issue 12 parts 4 and 5: "reuse a mesh's UV1 when it is
-// valid"). Today build_atlas always charts anew; a "reuse UV1" option calls this first.
+// it instead of charting anew: build_atlas keeps a mesh's own UV1 when mesh_uv1_problem
+// finds nothing (AtlasOptions::reuse_uv1).
 #pragma once
 
 #include <optional>
+#include <string>
 
 #include "illum/scene/scene.h"
 
@@ -25,6 +26,14 @@ struct Uv1Overlap {
 // keeps it near-linear. Throws Error for a malformed light-mapped mesh (uv1 count,
 // indices) or a non-finite uv1, naming the mesh.
 std::optional<Uv1Overlap> find_uv1_overlap(const Scene& scene);
+
+// Why one mesh's uv1 cannot be its light-map layout, in a few words ("its triangles 3 and 7
+// overlap in uv1"), or nothing when it can: uv1 present (one per vertex), finite, inside
+// [0,1]², no triangle with surface (in world space, `transform` its instance's) but no uv1
+// area, and no two triangles of the mesh overlapping (find_uv1_overlap's rules: mirrored
+// triangles and touching edges are fine). Other meshes are not looked at: the atlas gives
+// each reused UV1 a region of its own.
+std::optional<std::string> mesh_uv1_problem(const Mesh& mesh, const mat4& transform);
 
 // Throws Error when find_uv1_overlap finds one: "uv1 of mesh 'a' triangle i overlaps mesh
 // 'b' triangle j (…)", one line.

@@ -142,6 +142,18 @@ Light read_light(const Params& p, size_t index) {
   return light;
 }
 
+// `"lightmap": {"texel_size": s}` of a mesh entry (0 when absent): metres in the scene's
+// final units, in (0, kMaxLightmapTexelSize].
+float read_lightmap_texel_size(const Params& entry) {
+  if (!entry.has("lightmap")) return 0.0f;
+  const Params lightmap = entry.child("lightmap");
+  const float s = lightmap.get<float>("texel_size");
+  if (!(s > 0.0f && s <= kMaxLightmapTexelSize))
+    throw Error(fmt::format("{} = {} must be in (0, {}] metres per texel",
+                            lightmap.where("texel_size"), s, kMaxLightmapTexelSize));
+  return s;
+}
+
 }  // namespace
 
 Scene load_illum_json(const std::string& path, const LoadOptions& options) {
@@ -167,6 +179,7 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
       validate_scene_values(part, file);
       const mat4 transform = read_transform(entry);
       const bool dynamic = entry.get<bool>("dynamic", false);
+      const float lightmap_texel_size = read_lightmap_texel_size(entry);
 
       // Drop hidden objects (by instance or mesh name); an unknown name is a typo.
       if (entry.has("hide")) {
@@ -203,6 +216,7 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
         inst.transform = transform * inst.transform;
         inst.mesh = mesh_map[original];
         inst.dynamic = dynamic;
+        inst.lightmap_texel_size = lightmap_texel_size;
         if (uses[original] == 1) {
           transform_mesh(scene.meshes[inst.mesh], inst.transform);
           inst.transform = mat4(1.0f);

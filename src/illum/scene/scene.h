@@ -75,6 +75,10 @@ struct Mesh {
   size_t vertex_count() const { return positions.size(); }
 };
 
+// The largest per-object light-map texel a scene file may ask for: a texel wider than a
+// kilometre is a typo (a unit mix-up), not a light-map.
+inline constexpr float kMaxLightmapTexelSize = 1000.0f;
+
 struct Instance {
   std::string name;
   int mesh = 0;
@@ -83,6 +87,9 @@ struct Instance {
   // leave it out of their geometry and the real-time renderer lights it from the probes
   // (bake/probe_lookup.h) instead of a light-map.
   bool dynamic = false;
+  // `"lightmap": {"texel_size": s}` in a scene file: this object's light-map texels are s
+  // metres, whatever the bake's --texel-size (0: the bake's).
+  float lightmap_texel_size = 0.0f;
 };
 
 enum class LightType { kPoint, kSpot, kDirectional, kArea, kEnvironment };
