@@ -155,11 +155,10 @@ vec3 ambient_term_for(Surface s, int draw) {
   if (kind == 4) {
     vec3 a = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;
     vec3 c = SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb;
+    // Not renormalised: between texels of different directions the blend is shorter, a
+    // wider lobe, and on the baked normal the result stays the blend of the texels' exact
+    // E/π but for −Cov(C, d_z) over the filter's weights (renormalising can push d_z to 1).
     vec3 d = SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;
-    // Bilinear filtering shortens d between texels of different directions; renormalised
-    // so the lobe keeps its strength (a zero vector only where the map has none).
-    float len = length(d);
-    d = len > 1e-6 ? d / len : vec3(0.0, 0.0, 1.0);
     return s.albedo * k * max(a + c * max(dot(n, d), 0.0), 0.0);
   }
   vec3 c0 = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;

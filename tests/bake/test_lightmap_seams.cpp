@@ -322,6 +322,35 @@ Mismatch seam_mismatch(const bake::Seams& seams, const Image& map) {
   return m;
 }
 
+// The figure: the sphere seen from `eye` towards its centre, each pixel the error of the
+// bilinear lookup of `map` at the hit point's uv1 (what the renderer shows, before albedo)
+// against the exact E/π of `light` there, |error| × 20 / `brightest`: seams show as lines.
+Image sphere_view(const test::ChartedScene& c, const Image& map, const Light& light,
+                  float brightest, const vec3& eye, int size) {
+  Image out(size, size, 3);
+  const Frame frame = Frame::from_normal(glm::normalize(-eye));
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i) {
+      const float u = 2.0f * (float(i) + 0.5f) / float(size) - 1.0f;
+      const float v = 1.0f - 2.0f * (float(j) + 0.5f) / float(size);
+      const vec3 dir = glm::normalize(frame.n + 0.3f * (u * frame.t + v * frame.b));
+      Ray ray{eye, dir};
+      Hit hit;
+      if (!c.tracer->intersect(ray, &hit)) continue;
+      const Mesh& mesh = c.scene.meshes[size_t(c.scene.instances[hit.instance].mesh)];
+      const uint32_t* idx = &mesh.indices[3 * size_t(hit.primitive)];
+      const vec2 uv = (1.0f - hit.barycentric.x - hit.barycentric.y) * mesh.uv1[idx[0]] +
+                      hit.barycentric.x * mesh.uv1[idx[1]] + hit.barycentric.y * mesh.uv1[idx[2]];
+      const Color shown =
+          bake::bilinear_lookup(map, uv * vec2(float(map.width()), float(map.height())));
+      const vec3 p = eye + hit.t * dir, to_light = light.position - p;
+      const float cos_theta = std::max(0.0f, glm::dot(glm::normalize(p), glm::normalize(to_light)));
+      const Color exact = light.intensity * (cos_theta / (kPi * glm::dot(to_light, to_light)));
+      out.set_rgb(i, j, glm::abs(shown - exact) * (20.0f / brightest));
+    }
+  return out;
+}
+
 // Across a seam the two sides show the same surface point, so a visible step there is the
 // baker's artefact. The criterion: a step below 1% of the brightness (the Weber fraction of
 // brightness discrimination, about 1–2%) cannot be seen. A sphere (smooth normals, charted
@@ -377,6 +406,12 @@ TEST(LightmapSeams, StitchingJoinsTheChartsOfASmoothSphere) {
       stats.iterations, stats.seconds, moved / brightest);
   EXPECT_GT(after.counted, 100u);
   EXPECT_GT(before.max_relative, 0.01) << "no visible seam before stitching: nothing tested";
+  // Seen from the light's side.
+  const vec3 eye = 1.7f * glm::normalize(c.scene.lights[0].position);
+  write_figure("seam_sphere_before.png",
+               sphere_view(c, unstitched[0], c.scene.lights[0], float(brightest), eye, 320));
+  write_figure("seam_sphere_after.png",
+               sphere_view(c, baked.layers[0], c.scene.lights[0], float(brightest), eye, 320));
   EXPECT_LT(after.max_relative, 0.01);
 
   // The bakers stitch when asked (the CLI's default): the same result.

@@ -441,8 +441,11 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     bake.layers.push_back(std::move(image));
   }
   if (options.stitch) {
+    const auto stitch_start = std::chrono::steady_clock::now();
     const Seams seams = find_seams(scene, raster.width, raster.height);
-    bake.stitch_seconds = stitch_seams(seams, raster, bake.layers).seconds;
+    stitch_seams(seams, raster, bake.layers);
+    bake.stitch_seconds =  // finding the seams and solving
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - stitch_start).count();
     bake.seam_edges = seams.edges;
   }
   if (options.basis == LightmapBasis::kDominant) bake.layers = dominant_from_sh(bake.layers);
