@@ -9,13 +9,14 @@
 const int kPrtNone = 0, kPrtVertices = 1, kPrtTexels = 2, kPrtVq = 3;  // PrtLookup
 
 layout(std140, set = 4, binding = 0) uniform Baked {
-  ivec4 info;         // x: light-map kind (0 none, 1 plain, 2 RNM, 3 SH-L1), y: PRT lookup
+  ivec4 info;         // x: light-map kind (0 none, 1 plain, 2 RNM, 3 SH-L1, 4 dominant), y: PRT lookup
                       // (kPrt*), z: entries of draw_cubes, w: PRT coefficients (bands²)
   vec4 intensity;     // x: light-map intensity
   ivec4 prt_size;     // PRT: atlas width, height (texels, VQ); z: halves per point
   vec4 prt_light[64]; // PRT: the sun's SH radiance coefficients L_i (world frame), RGB
 } baked;
-// Light-map layers (uv1): 1 = plain, 3 = RNM basis 0..2, 4 = SH-L1 coefficients 0..3.
+// Light-map layers (uv1): 1 = plain, 3 = RNM basis 0..2, 4 = SH-L1 coefficients 0..3,
+// 3 = dominant: ambient, directional colour, direction (tangent space).
 layout(set = 4, binding = 1) uniform sampler2DArray lightmap;
 // Ambient cubes (Source engine): 6 RGB values (+x, −x, +y, −y, +z, −z) per probed draw,
 // interpolated on the CPU from the probe grid at the instance's centre.

@@ -114,7 +114,10 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
 // Ambient: PRT when shown, a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
 // scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
 // weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (sh.glsl,
-// the normal as the pole) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n).
+// the normal as the pole) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n); dominant maps hold
+// ambient A, directional colour C and the tangent-space direction d: A + C·max(0, n·d)
+// (bake/lightmap_basis.h; exact E/π on the baked normal, so a surface without a normal map
+// shows what the plain map shows).
 // `draw`: the draw's index (colour passes push it as push.view_index), for its ambient cube.
 vec3 ambient_term_for(Surface s, int draw) {
   int cube = draw < baked.info.z ? draw_cubes[draw] : 0;
@@ -148,6 +151,15 @@ vec3 ambient_term_for(Surface s, int draw) {
     vec3 l = w.x * SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb + w.y * SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb +
              w.z * SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;
     return s.albedo * k * l;
+  }
+  if (kind == 4) {
+    vec3 a = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;
+    vec3 c = SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb;
+    // Not renormalised: between texels of different directions the blend is shorter, a
+    // wider lobe, and on the baked normal the result stays the blend of the texels' exact
+    // E/π but for −Cov(C, d_z) over the filter's weights (renormalising can push d_z to 1).
+    vec3 d = SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;
+    return s.albedo * k * max(a + c * max(dot(n, d), 0.0), 0.0);
   }
   vec3 c0 = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;
   vec3 c1 = SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb;  // y

@@ -294,6 +294,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
     baked.content = radiosity_baked.content;
     baked.layers = std::move(radiosity_baked.layers);
     baked.seconds = radiosity_baked.seconds;
+    baked.stitch_seconds = radiosity_baked.stitch_seconds;
+    baked.seam_edges = radiosity_baked.seam_edges;
     baked.rays = radiosity_baked.rays;
     baked.texels = radiosity_baked.texels;
   } else {
@@ -339,6 +341,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"reach_rays", radiosity_options.reach_rays},
                 {"seed", radiosity_options.seed},
                 {"dilate", radiosity_options.dilate},
+                {"stitch", radiosity_options.stitch},
                 {"shots", radiosity_baked.shots},
                 {"initial_power", radiosity_baked.initial_power},
                 {"remaining_power", radiosity_baked.remaining_power},
@@ -349,6 +352,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"max_bounces", bake_options.max_bounces},
                 {"seed", bake_options.seed},
                 {"dilate", bake_options.dilate},
+                {"stitch", bake_options.stitch},
                 {"denoise", baked.denoised},
                 {"denoise_strength", bake_options.denoise_strength}};
     if (args.time_s > 0.0)
@@ -365,7 +369,9 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                  {"texels_pushed_out", pushed.moved},
                                  {"texels_rejected", pushed.rejected},
                                  {"bake_seconds", baked.seconds},
-                                 {"denoise_seconds", baked.denoise_seconds}});
+                                 {"denoise_seconds", baked.denoise_seconds},
+                                 {"seam_edges", baked.seam_edges},
+                                 {"stitch_seconds", baked.stitch_seconds}});
   if (extras_options.any()) {
     set.bake["extras_seconds"] = extras.seconds;
     set.bake["extras_rays"] = extras.rays;
@@ -425,7 +431,9 @@ void add_bake_command(CLI::App& app) {
                   "to end past the time; the manifest records the samples taken")
       ->transform(number(0.0, 1e9))
       ->capture_default_str();
-  cmd->add_option("--basis", args->basis, "plain, rnm (3 Source basis maps) or sh (SH-L1)")
+  cmd->add_option("--basis", args->basis,
+                  "plain, rnm (3 Source basis maps), sh (SH-L1) or dominant (ambient, "
+                  "directional colour, dominant direction)")
       ->capture_default_str();
   cmd->add_option("--content", args->content,
                   "all (every light, direct and indirect) or indirect (leaves the direct light "

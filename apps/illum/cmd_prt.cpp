@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
@@ -144,8 +145,10 @@ void run_prt_bake(const PrtBakeRequest& args) {
   set.atlas = atlas::chart_scene(scene, atlas_options);
   const double atlas_s = seconds_since(t0);
   const RayTracer tracer(scene);
-  const atlas::TexelRaster raster =
-      atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  atlas::TexelRaster raster = atlas::rasterize_texels(scene, set.atlas.width, set.atlas.height);
+  // As `illum bake` does: texel samples inside or behind geometry would leak light into the
+  // transfer (bake/lightmap_seams.h).
+  const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
   log::release();
   bake::PrtBake baked = bake::bake_prt(scene, tracer, raster, options);
 
@@ -176,7 +179,9 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"rays", baked.rays},
               {"atlas_seconds", atlas_s},
               {"bake_seconds", baked.seconds},
-              {"shoot_seconds", baked.shoot_seconds}};
+              {"shoot_seconds", baked.shoot_seconds},
+              {"texels_pushed_out", pushed.moved},
+              {"texels_rejected", pushed.rejected}};
   if (set.vq.count() > 0) {
     const double full = double(set.texel_transfer.data.size()) * 4.0;
     const double packed =

@@ -21,6 +21,7 @@
 #include "bake_test_scenes.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
+#include "illum/bake/radiosity_baker.h"
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/params.h"
@@ -137,6 +138,95 @@ TEST(LightmapBaker, PointLightOverPlaneIsExact) {
   s.lights[0].position.y = -1.0f;
   const LightmapBake below = bake_scene(s, 16, options(LightmapBasis::kPlain, 16));
   for (const float v : below.layers[0].data()) ASSERT_EQ(v, 0.0f);
+}
+
+// The texel's tangent frame as the bakers and shaders use it (lightmap_baker.h).
+vec3 to_tangent(const atlas::TexelSample& t, const vec3& w) {
+  const vec3 b = glm::cross(t.normal, t.tangent) * t.tangent_sign;
+  return vec3(glm::dot(w, t.tangent), glm::dot(w, b), glm::dot(w, t.normal));
+}
+
+// Dominant-direction maps (lightmap_basis.h) from both bakers under one point light over a
+// plane. Every estimate there is exact (the light's next-event estimate is deterministic
+// and every hemisphere ray escapes into black; the radiosity baker's direct light is one
+// exact shadow ray), so: the direction is the texel's direction to the light, all of the
+// light is directional (r = 1: ambient 0), and A + C·d_z, the display on the baked normal,
+// equals the plain map of the same baker — each to float rounding.
+TEST(LightmapBaker, DominantPointsAtAPointLightAndMatchesPlain) {
+  Scene s;
+  test::add_instance(
+      s, test::uv_plane(2.0f, test::add_lambert(s, Color(0.0f)), vec4(0.6f, 0.0f, 0.8f, -1.0f)));
+  s.lights.push_back(point_light({0.3f, 1.5f, -0.2f}, Color(2.0f, 3.0f, 4.0f)));
+  const RayTracer tracer(s);
+  const atlas::TexelRaster raster = atlas::rasterize_texels(s, 16, 16);
+  for (const bool radiosity : {false, true}) {
+    const auto bake = [&](LightmapBasis basis) {
+      if (!radiosity) return bake::bake_lightmap(s, tracer, raster, options(basis, 8)).layers;
+      bake::RadiosityBakeOptions o;
+      o.basis = basis;
+      o.progress = false;
+      return bake::bake_radiosity(s, tracer, raster, o).layers;
+    };
+    const std::vector<Image> plain = bake(LightmapBasis::kPlain);
+    const std::vector<Image> dominant = bake(LightmapBasis::kDominant);
+    ASSERT_EQ(dominant.size(), 3u);
+    for (const atlas::TexelSample& t : raster.samples) {
+      const vec3 to_light = to_tangent(t, glm::normalize(s.lights[0].position - t.position));
+      const Color a = dominant[0].rgb(t.x, t.y), c = dominant[1].rgb(t.x, t.y);
+      const vec3 d = dominant[2].rgb(t.x, t.y);
+      const Color p = plain[0].rgb(t.x, t.y);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(d[k], to_light[k], kRounding) << (radiosity ? "radiosity " : "path ") << k;
+        EXPECT_NEAR(a[k], 0.0, kRounding * p[k]) << "ambient";
+        EXPECT_NEAR(a[k] + c[k] * d.z, p[k], kRounding * p[k]) << "A + C·d_z vs plain";
+      }
+    }
+  }
+}
+
+// A small area light (a square of side 2h at height H, emitting one-sided downward, black)
+// over a black plane: every sample direction of a texel — next-event points on the square,
+// hemisphere rays that hit it — lies in the square's cone, and the baked mean direction is
+// a sum of them with non-negative weights (luminance × sample weight), so it lies in that
+// cone too, whatever the noise: the angle to the square's centre is at most the cone's
+// half-angle at the texel, atan(√2·h/distance) bounding it (rounding aside). The sampling
+// variance cannot widen it; what it does is checked next: A + C·d_z against the plain map,
+// two independent estimates of the same E/π, in the mean over texels within kZ standard
+// errors of the per-texel differences.
+TEST(LightmapBaker, DominantDirectionOfASmallAreaLight) {
+  Scene s;
+  test::add_instance(s, test::uv_plane(2.0f, test::add_lambert(s, Color(0.0f))));
+  const float h = 0.05f, height = 1.0f;
+  Mesh quad = test::uv_plane(h, test::add_lambert(s, Color(0.0f), Color(40.0f, 30.0f, 20.0f)));
+  quad.uv1.clear();
+  // Turned over (half a turn about x) to face down.
+  const int light = test::add_instance(s, std::move(quad),
+                                       glm::translate(mat4(1.0f), vec3(0.2f, height, 0.1f)) *
+                                           glm::rotate(mat4(1.0f), kPi, vec3(1.0f, 0.0f, 0.0f)));
+  s.lights.push_back(test::area_light(light));
+  atlas::TexelRaster raster;
+  const LightmapBake dominant = bake_scene(s, 16, options(LightmapBasis::kDominant, 64), &raster);
+  const LightmapBake plain = bake_scene(s, 16, options(LightmapBasis::kPlain, 64));
+  const vec3 centre(0.2f, height, 0.1f);
+  double sum = 0, sum2 = 0;
+  for (const atlas::TexelSample& t : raster.samples) {
+    const vec3 to_centre = centre - t.position;
+    const float cone =
+        std::atan(std::sqrt(2.0f) * h / (glm::length(to_centre) - std::sqrt(2.0f) * h));
+    const vec3 d = dominant.layers[2].rgb(t.x, t.y);
+    const vec3 expected = to_tangent(t, glm::normalize(to_centre));
+    const float angle = std::acos(std::clamp(glm::dot(glm::normalize(d), expected), -1.0f, 1.0f));
+    EXPECT_LE(angle, cone + 1e-3f) << "texel " << t.x << "," << t.y;
+    const double e0 =
+        luminance(dominant.layers[0].rgb(t.x, t.y) + dominant.layers[1].rgb(t.x, t.y) * d.z);
+    const double diff = e0 - luminance(plain.layers[0].rgb(t.x, t.y));
+    sum += diff;
+    sum2 += diff * diff;
+  }
+  const double n = double(raster.covered());
+  const double mean = sum / n, se = std::sqrt(std::max(sum2 / n - mean * mean, 0.0) / (n - 1));
+  EXPECT_GT(se, 0.0);  // two different estimators: their difference is noisy, not zero
+  EXPECT_LE(std::abs(mean), kZ * se) << "mean of A + C·d_z − plain over texels";
 }
 
 TEST(LightmapBaker, TwoPointLightsWithinTheSelectionVariance) {
@@ -419,6 +509,11 @@ TEST(LightmapBaker, OptionsAndNames) {
   EXPECT_EQ(bake::layer_count(LightmapBasis::kPlain), 1);
   EXPECT_EQ(bake::layer_count(LightmapBasis::kRnm), 3);
   EXPECT_EQ(bake::layer_count(LightmapBasis::kShL1), 4);
+  EXPECT_EQ(bake::layer_count(LightmapBasis::kDominant), 3);
+  EXPECT_EQ(bake::lightmap_basis_from_string("dominant"), LightmapBasis::kDominant);
+  EXPECT_STREQ(bake::to_string(LightmapBasis::kDominant), "dominant");
+  EXPECT_EQ(bake::accumulation_basis(LightmapBasis::kDominant), LightmapBasis::kShL1);
+  EXPECT_THROW(bake::dominant_from_sh({Image(2, 2, 3)}), Error);
   EXPECT_THROW(bake::lightmap_basis_from_string("hl2"), Error);
   EXPECT_THROW(bake::lightmap_content_from_string("direct"), Error);
 

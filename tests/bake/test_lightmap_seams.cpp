@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../render/render_test_scenes.h"
+#include "bake_test_scenes.h"
 #include "charted_cornell.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
@@ -256,6 +257,212 @@ TEST(LightmapSeams, RejectsSamplesWithNoFreePosition) {
   EXPECT_EQ(raster.covered(), covered - size_t(pushed.rejected));
   for (size_t i = 0; i < raster.samples.size(); ++i)
     EXPECT_EQ(raster.at(raster.samples[i].x, raster.samples[i].y), int32_t(i));
+}
+
+// An outward UV sphere with shared vertices and smooth normals (the normal is the
+// direction from the centre), so the atlas's chart boundaries are the only seams.
+Mesh smooth_sphere(float radius, int rings, int segments, int material) {
+  Mesh m;
+  m.name = "sphere";
+  m.material = material;
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j <= segments; ++j) {
+      const float theta = kPi * float(i) / float(rings),
+                  phi = 2.0f * kPi * float(j) / float(segments);
+      const vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                   std::sin(theta) * std::sin(phi));
+      m.positions.push_back(radius * n);
+      m.normals.push_back(n);
+    }
+  // The seam column j = segments repeats j = 0 at the same positions: joined by index so
+  // the sphere is closed (the poles likewise collapse to one vertex each).
+  const auto index = [&](int i, int j) {
+    if (i == 0) return uint32_t(0);
+    if (i == rings) return uint32_t(rings * (segments + 1));
+    return uint32_t(i * (segments + 1) + (j % segments));
+  };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const uint32_t a = index(i, j), b = index(i + 1, j), c = index(i + 1, j + 1),
+                     d = index(i, j + 1);
+      if (i != 0) m.indices.insert(m.indices.end(), {a, d, b});
+      if (i != rings - 1) m.indices.insert(m.indices.end(), {d, c, b});
+    }
+  return m;
+}
+
+// Seam mismatch: per seam sample, the two sides' bilinear lookups of the map (luminance),
+// relative to the larger; samples darker than 5% of the brightest are left out (a relative
+// step means nothing near black, and the light's terminator is there).
+struct Mismatch {
+  double max_relative = 0.0;
+  size_t counted = 0;
+};
+Mismatch seam_mismatch(const bake::Seams& seams, const Image& map) {
+  std::vector<std::pair<double, double>> sides;
+  double brightest = 0.0;
+  for (const bake::SeamSample& s : seams.samples) {
+    const double a = luminance(bake::bilinear_lookup(map, s.side[0]));
+    const double b = luminance(bake::bilinear_lookup(map, s.side[1]));
+    sides.emplace_back(a, b);
+    brightest = std::max({brightest, a, b});
+  }
+  Mismatch m;
+  for (const auto& [a, b] : sides) {
+    if (std::max(a, b) < 0.05 * brightest) continue;
+    ++m.counted;
+    const double rel = std::abs(a - b) / std::max(a, b);
+    m.max_relative = std::max(m.max_relative, rel);
+  }
+  return m;
+}
+
+// The figure: the sphere seen from `eye` towards its centre, each pixel the error of the
+// bilinear lookup of `map` at the hit point's uv1 (what the renderer shows, before albedo)
+// against the exact E/π of `light` there, |error| × 20 / `brightest`: seams show as lines.
+Image sphere_view(const test::ChartedScene& c, const Image& map, const Light& light,
+                  float brightest, const vec3& eye, int size) {
+  Image out(size, size, 3);
+  const Frame frame = Frame::from_normal(glm::normalize(-eye));
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i) {
+      const float u = 2.0f * (float(i) + 0.5f) / float(size) - 1.0f;
+      const float v = 1.0f - 2.0f * (float(j) + 0.5f) / float(size);
+      const vec3 dir = glm::normalize(frame.n + 0.3f * (u * frame.t + v * frame.b));
+      Ray ray{eye, dir};
+      Hit hit;
+      if (!c.tracer->intersect(ray, &hit)) continue;
+      const Mesh& mesh = c.scene.meshes[size_t(c.scene.instances[hit.instance].mesh)];
+      const uint32_t* idx = &mesh.indices[3 * size_t(hit.primitive)];
+      const vec2 uv = (1.0f - hit.barycentric.x - hit.barycentric.y) * mesh.uv1[idx[0]] +
+                      hit.barycentric.x * mesh.uv1[idx[1]] + hit.barycentric.y * mesh.uv1[idx[2]];
+      const Color shown =
+          bake::bilinear_lookup(map, uv * vec2(float(map.width()), float(map.height())));
+      const vec3 p = eye + hit.t * dir, to_light = light.position - p;
+      const float cos_theta = std::max(0.0f, glm::dot(glm::normalize(p), glm::normalize(to_light)));
+      const Color exact = light.intensity * (cos_theta / (kPi * glm::dot(to_light, to_light)));
+      out.set_rgb(i, j, glm::abs(shown - exact) * (20.0f / brightest));
+    }
+  return out;
+}
+
+// Across a seam the two sides show the same surface point, so a visible step there is the
+// baker's artefact. The criterion: a step below 1% of the brightness (the Weber fraction of
+// brightness discrimination, about 1–2%) cannot be seen. A sphere (smooth normals, charted
+// into several charts) under a point light, direct light only: every texel's value is
+// exact (one deterministic next-event estimate, no occluder on the lit side), so all of
+// the mismatch before stitching comes from the two sides' bilinear lookups over different
+// texel grids and dilated gutters — which stitching must bring under 1% on every seam
+// sample, while it must have been above it before (else the scene tests nothing).
+TEST(LightmapSeams, StitchingJoinsTheChartsOfASmoothSphere) {
+  Scene scene;
+  Material m;
+  m.albedo = Color(0.5f);
+  const int mat = add_material(scene, m);
+  scene.meshes.push_back(smooth_sphere(0.5f, 24, 48, mat));
+  Instance inst;
+  inst.name = "sphere";
+  scene.instances.push_back(inst);
+  Light light;
+  light.type = LightType::kPoint;
+  light.position = vec3(1.0f, 2.0f, 1.5f);
+  light.intensity = Color(4.0f);
+  scene.lights.push_back(light);
+  test::ChartedScene c(std::move(scene), 128);
+
+  const bake::Seams seams = bake::find_seams(c.scene, c.raster.width, c.raster.height);
+  std::printf("sphere: %lld seam edges (%lld within the instance), %zu samples\n",
+              static_cast<long long>(seams.edges), static_cast<long long>(seams.within_instance),
+              seams.samples.size());
+  ASSERT_GT(seams.edges, 0) << "the atlas split the sphere into one chart?";
+  EXPECT_EQ(seams.within_instance, seams.edges);
+
+  bake::LightmapBakeOptions o;
+  o.spp = 1;
+  o.max_bounces = 0;
+  o.progress = false;
+  bake::LightmapBake baked = bake::bake_lightmap(c.scene, *c.tracer, c.raster, o);
+  const Mismatch before = seam_mismatch(seams, baked.layers[0]);
+  const std::vector<Image> unstitched = baked.layers;
+  const bake::SeamStitchStats stats = bake::stitch_seams(seams, c.raster, baked.layers);
+  const Mismatch after = seam_mismatch(seams, baked.layers[0]);
+  // How far stitching moved any texel, relative to the brightest texel.
+  double moved = 0.0, brightest = 0.0;
+  for (int y = 0; y < c.raster.height; ++y)
+    for (int x = 0; x < c.raster.width; ++x) {
+      moved = std::max(moved, double(std::abs(luminance(baked.layers[0].rgb(x, y)) -
+                                              luminance(unstitched[0].rgb(x, y)))));
+      brightest = std::max(brightest, double(luminance(unstitched[0].rgb(x, y))));
+    }
+  std::printf(
+      "seam step max %.4f before, %.4f after stitching (%zu samples counted); %lld texels, "
+      "%d CG iterations, %.3fs; largest texel change %.4f of the brightest\n",
+      before.max_relative, after.max_relative, after.counted, static_cast<long long>(stats.texels),
+      stats.iterations, stats.seconds, moved / brightest);
+  EXPECT_GT(after.counted, 100u);
+  EXPECT_GT(before.max_relative, 0.01) << "no visible seam before stitching: nothing tested";
+  // Seen from the light's side.
+  const vec3 eye = 1.7f * glm::normalize(c.scene.lights[0].position);
+  write_figure("seam_sphere_before.png",
+               sphere_view(c, unstitched[0], c.scene.lights[0], float(brightest), eye, 320));
+  write_figure("seam_sphere_after.png",
+               sphere_view(c, baked.layers[0], c.scene.lights[0], float(brightest), eye, 320));
+  EXPECT_LT(after.max_relative, 0.01);
+
+  // The bakers stitch when asked (the CLI's default): the same result.
+  o.stitch = true;
+  const bake::LightmapBake stitched = bake::bake_lightmap(c.scene, *c.tracer, c.raster, o);
+  EXPECT_EQ(stitched.seam_edges, seams.edges);
+  EXPECT_LT(seam_mismatch(seams, stitched.layers[0]).max_relative, 0.01);
+}
+
+// Two coplanar squares, separate instances with hand-set uv1 in two corners of the atlas,
+// sharing an edge under a point light: a seam between objects.
+TEST(LightmapSeams, StitchingJoinsTwoObjects) {
+  Scene scene;
+  const int mat = test::add_lambert(scene, Color(0.5f));
+  test::add_instance(scene, test::uv_plane(0.5f, mat, vec4(1, 0, 0, 1), vec2(0.05f), vec2(0.45f)),
+                     glm::translate(mat4(1.0f), vec3(-0.5f, 0.0f, 0.0f)));
+  test::add_instance(scene, test::uv_plane(0.5f, mat, vec4(1, 0, 0, 1), vec2(0.55f), vec2(0.95f)),
+                     glm::translate(mat4(1.0f), vec3(0.5f, 0.0f, 0.0f)));
+  Light light;
+  light.type = LightType::kPoint;
+  light.position = vec3(0.1f, 0.6f, 0.2f);
+  light.intensity = Color(1.0f);
+  scene.lights.push_back(light);
+  const RayTracer tracer(scene);
+  const atlas::TexelRaster raster = atlas::rasterize_texels(scene, 32, 32);
+  const bake::Seams seams = bake::find_seams(scene, raster.width, raster.height);
+  EXPECT_EQ(seams.edges, 1);
+  EXPECT_EQ(seams.within_instance, 0);
+  bake::LightmapBakeOptions o;
+  o.spp = 1;
+  o.max_bounces = 0;
+  o.progress = false;
+  bake::LightmapBake baked = bake::bake_lightmap(scene, tracer, raster, o);
+  const Mismatch before = seam_mismatch(seams, baked.layers[0]);
+  bake::stitch_seams(seams, raster, baked.layers);
+  const Mismatch after = seam_mismatch(seams, baked.layers[0]);
+  std::printf("two squares: seam step max %.4f before, %.4f after\n", before.max_relative,
+              after.max_relative);
+  EXPECT_GT(before.max_relative, 0.01);
+  EXPECT_LT(after.max_relative, 0.01);
+}
+
+// Edges that are no seams: a crease (the two faces of a box's corner) and one chart's inner
+// edges (same uv1 on both sides).
+TEST(LightmapSeams, CreasesAreNoSeams) {
+  Scene scene;
+  Material m;
+  const int mat = add_material(scene, m);
+  add_triangles(scene, inward_box(vec3(-1.0f), vec3(1.0f), false), mat, "box");
+  Mesh& box = scene.meshes.back();
+  for (size_t v = 0; v < box.positions.size(); v += 3)  // flat: each corner its face's normal
+    box.normals.insert(box.normals.end(), 3,
+                       glm::normalize(glm::cross(box.positions[v + 1] - box.positions[v],
+                                                 box.positions[v + 2] - box.positions[v])));
+  test::ChartedScene c(std::move(scene), 64);
+  EXPECT_EQ(bake::find_seams(c.scene, c.raster.width, c.raster.height).edges, 0);
 }
 
 }  // namespace

@@ -306,6 +306,14 @@ TEST(LightmapDisplay, NonConstantMapsFollowUv1PerPixel) {
     sum += w[i];
   }
   const float sh1 = (2.0f / 3.0f) * 0.488603f;
+  // Dominant: one direction over the whole map (half floats, so what the GPU reads), which
+  // makes A + C·max(0, n·d) linear in the A and C layers with weights 1 and max(0, n·d).
+  Image direction(kMapW, kMapH, 3);
+  const vec3 d_wanted = glm::normalize(vec3(0.3f, -0.2f, 0.9f));
+  vec3 d;
+  for (int k = 0; k < 3; ++k) d[k] = glm::unpackHalf1x16(glm::packHalf1x16(d_wanted[k]));
+  for (int y = 0; y < kMapH; ++y)
+    for (int x = 0; x < kMapW; ++x) direction.set_rgb(x, y, d);
   const std::vector<Kind> kinds = {
       {"plain", LightmapKind::kPlain, {random_layer(0.2f, 1.2f, 1)}, {n.z}},
       {"RNM",
@@ -316,7 +324,11 @@ TEST(LightmapDisplay, NonConstantMapsFollowUv1PerPixel) {
        LightmapKind::kShL1,
        {random_layer(0.5f, 1.5f, 5), random_layer(-0.3f, 0.3f, 6), random_layer(-0.3f, 0.3f, 7),
         random_layer(-0.3f, 0.3f, 8)},
-       {0.282095f, sh1 * n.y, sh1 * n.z, sh1 * n.x}}};
+       {0.282095f, sh1 * n.y, sh1 * n.z, sh1 * n.x}},
+      {"dominant",
+       LightmapKind::kDominant,
+       {random_layer(0.1f, 0.6f, 9), random_layer(0.2f, 1.2f, 10), direction},
+       {1.0f, std::max(glm::dot(n, d), 0.0f), 0.0f}}};
   for (const Kind& kind : kinds) {
     renderer.set_lightmap({kind.kind, kind.layers});
     renderer.render(*scene.camera);

@@ -152,7 +152,8 @@ int lightmap_layer_count(const std::string& basis) {
   if (basis == "plain") return 1;
   if (basis == "rnm") return 3;
   if (basis == "sh") return 4;
-  throw Error(fmt::format("unknown light-map basis '{}' (plain, rnm or sh)", basis));
+  if (basis == "dominant") return 3;  // ambient, directional colour, direction (bake/)
+  throw Error(fmt::format("unknown light-map basis '{}' (plain, rnm, sh or dominant)", basis));
 }
 
 void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
@@ -278,8 +279,8 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
       manifest.unsigned_integer("version", 1u << 30) != kVersion)
     manifest.fail(fmt::format("not an illum-lightmap version {} manifest", kVersion));
   set.basis = manifest.string("basis");
-  if (set.basis != "plain" && set.basis != "rnm" && set.basis != "sh")
-    manifest.fail(fmt::format("unknown basis '{}' (plain, rnm or sh)", set.basis));
+  if (set.basis != "plain" && set.basis != "rnm" && set.basis != "sh" && set.basis != "dominant")
+    manifest.fail(fmt::format("unknown basis '{}' (plain, rnm, sh or dominant)", set.basis));
   const int expected = lightmap_layer_count(set.basis);
   set.content = manifest.string("content");
   if (set.content != "all" && set.content != "indirect")

@@ -1,5 +1,5 @@
 // The folder `illum bake` writes and the real-time renderer reads: a baked light-map set.
-//   lightmap.json   manifest: format "illum-lightmap" version 1, basis (plain|rnm|sh),
+//   lightmap.json   manifest: format "illum-lightmap" version 1, basis (plain|rnm|sh|dominant),
 //                   content (all|indirect), size, layer file names, atlas file, texel
 //                   size, chart count, scene name and triangle count, scene_hash (the
 //                   geometry_hash of the scene with the atlas applied, 16 hex digits:
@@ -43,7 +43,7 @@ bool is_lightmap_extra_name(const std::string& name);
 
 struct LightmapSet {
   Atlas atlas;
-  std::string basis = "plain";  // plain | rnm | sh
+  std::string basis = "plain";  // plain | rnm | sh | dominant
   std::string content = "all";  // all | indirect
   std::vector<Image> layers;    // 1 (plain), 3 (rnm) or 4 (sh), all atlas-sized RGB
   std::string scene;            // the scene's name, for the record and for messages

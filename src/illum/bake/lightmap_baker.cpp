@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "illum/bake/lightmap_denoiser.h"
+#include "illum/bake/lightmap_seams.h"
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/log.h"
@@ -86,6 +87,10 @@ std::vector<float> guide_weights(LightmapBasis basis) {
       return {1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f};
     case LightmapBasis::kShL1:
       return {1.0f, 0.0f, 0.0f, 0.0f};
+    case LightmapBasis::kDominant:
+      // Of the SH sums it is made from: E/π on the normal, c2/(π·Y1 factor), which the
+      // dominant layers reproduce there exactly (lightmap_basis.h).
+      return {0.0f, 0.0f, static_cast<float>(1.0 / (kPi * sh::kY1)), 0.0f};
   }
   throw Error(fmt::format("light-map bake: unknown basis {}", static_cast<int>(basis)));
 }
@@ -126,7 +131,7 @@ double batch_variance(const double* sums, int batches, int spp) {
 
 void validate(const LightmapBakeOptions& o) {
   if (o.basis != LightmapBasis::kPlain && o.basis != LightmapBasis::kRnm &&
-      o.basis != LightmapBasis::kShL1)
+      o.basis != LightmapBasis::kShL1 && o.basis != LightmapBasis::kDominant)
     throw Error(fmt::format("light-map bake: unknown basis {}", static_cast<int>(o.basis)));
   if (o.content != LightmapContent::kAll && o.content != LightmapContent::kIndirect)
     throw Error(fmt::format("light-map bake: unknown content {}", static_cast<int>(o.content)));
@@ -198,6 +203,7 @@ LightmapBakeOptions LightmapBakeOptions::from_params(const Params& params) {
   o.denoise = params.get<bool>("denoise", true);
   o.denoise_strength = params.get_float_in("denoise_strength", o.denoise_strength,
                                            kMinDenoiseStrength, kMaxDenoiseStrength);
+  o.stitch = params.get<bool>("stitch", true);
   o.seed = params.get_seed("seed", o.seed);
   return o;
 }
@@ -209,7 +215,9 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   ThreadLimit thread_limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
 
-  const int layers = layer_count(options.basis);
+  // Dominant-direction maps are made from SH-L1 sums at the end (lightmap_basis.h).
+  const LightmapBasis accumulated_basis = accumulation_basis(options.basis);
+  const int layers = layer_count(accumulated_basis);
   LightmapBake bake;
   bake.basis = options.basis;
   bake.content = options.content;
@@ -245,7 +253,7 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   const auto add_samples = [&](int64_t i, int first, int end, TexelSums& sums, int64_t* rays,
                                int64_t* dropped_samples) {
     const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-    const TexelVertex v(s, options.basis);
+    const TexelVertex v(s, accumulated_basis);
     const int batches = variance_batches(end);
     // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's value
     // depends only on (seed, x, y, spp), never on scheduling or on the passes.
@@ -428,6 +436,18 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
     log::info("bake: denoised {} texels in {:.2f}s", raster.samples.size(), bake.denoise_seconds);
   }
   for (Image& layer : bake.layers) atlas::dilate(layer, raster, options.dilate);
+  if (options.stitch) {
+    const auto stitch_start = std::chrono::steady_clock::now();
+    const Seams seams = find_seams(scene, raster.width, raster.height);
+    const SeamStitchStats stitched = stitch_seams(seams, raster, bake.layers);
+    bake.stitch_seconds =  // finding the seams and solving
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - stitch_start).count();
+    bake.seam_edges = seams.edges;
+    log::info("bake: stitched {} seam edges ({} samples, {} texels, {} CG iterations) in {:.2f}s",
+              seams.edges, stitched.samples, stitched.texels, stitched.iterations,
+              stitched.seconds);
+  }
+  if (options.basis == LightmapBasis::kDominant) bake.layers = dominant_from_sh(bake.layers);
   bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bake.rays = total_rays.load();
   bake.texels = raster.samples.size();

@@ -8,6 +8,9 @@
 //                    b_0 = (√(2/3), 0, 1/√3), b_{1,2} = (−1/√6, ±1/√2, 1/√3) (S003 ch. 7)
 //   sh     4 layers: radiance SH-L1 c_i = ∫_H L(ω) Y_i(ω) dω in tangent space, order Y00,
 //                    Y1−1 (y), Y10 (z), Y11 (x) (core SH convention)
+//   dominant 3 layers: ambient A, directional colour C, dominant direction d (tangent
+//                    space), made from the sh layers after the bake (lightmap_basis.h,
+//                    dominant_from_sh): E/π(n) ≈ A + C·max(0, n·d), exact on the normal
 // H is the hemisphere around the texel's normal; tangent space is the TexelSample frame.
 #pragma once
 
@@ -39,6 +42,10 @@ struct LightmapBakeOptions {
   // Carlo estimate (unbiased, what the estimator tests check), bit-identical to a baker
   // without a denoiser; from_params, which the CLI and files go through, turns it on.
   bool denoise = false;
+  // Seam stitching after dilation (lightmap_seams.h: stitch_seams), every layer (for
+  // dominant: the SH-L1 sums it is made from). Off here like `denoise`; from_params turns
+  // it on (key stitch).
+  bool stitch = false;
   // The denoiser's luminance_sigma: light differences up to about this many standard
   // deviations of the difference's noise are smoothed over, larger ones kept as edges.
   // 3 ≈ SVGF's σ_l = 4 (which divides by one texel's deviation, not the difference's):
@@ -57,8 +64,8 @@ struct LightmapBakeOptions {
   double time_budget_s = 0.0;
 
   // Keys: basis, content, spp (1..1<<20), max_bounces (0..1024), dilate (0..64), seed,
-  // denoise (bool, default true), denoise_strength (0.1..100). Throws Error for
-  // out-of-range values or unknown names.
+  // denoise (bool, default true), denoise_strength (0.1..100), stitch (bool, default true). Throws
+  // Error for out-of-range values or unknown names.
   static LightmapBakeOptions from_params(const Params& params);
 };
 
@@ -67,13 +74,16 @@ struct LightmapBake {
   LightmapContent content = LightmapContent::kAll;
   std::vector<Image> layers;  // layer_count(basis) RGB images of the raster's size
   // One channel, raster size: at each covered texel the variance of the estimate of the
-  // guide luminance (plain: layer 0's, rnm: the mean of the three layers', sh: c0's),
+  // guide luminance (plain: layer 0's, rnm: the mean of the three layers', sh: c0's,
+  // dominant: E/π on the normal's, c2/(π√(3/4π)), the plain layer's quantity),
   // before denoising, from the spread of the means of 2 (spp < 8) or 4 runs of consecutive
   // samples (spp = 1: the squared estimate); 0 at uncovered texels. Filled whether or not
   // the bake is denoised.
   Image variance;
   bool denoised = false;
   double denoise_seconds = 0.0;  // part of `seconds`
+  double stitch_seconds = 0.0;   // part of `seconds`
+  int64_t seam_edges = 0;        // seam edges stitched (0 without stitching)
   double seconds = 0.0;
   int64_t rays = 0;
   size_t texels = 0;  // covered texels baked

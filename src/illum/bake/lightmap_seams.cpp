@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include "illum/core/error.h"
 #include "illum/core/parallel.h"
+#include "illum/core/rng.h"
 
 namespace illum::bake {
 namespace {
@@ -59,7 +62,262 @@ float nearest_back_face(const RayTracer& tracer, const vec3& p, const vec3& ng, 
   return nearest;
 }
 
+// One triangle edge, its end points ordered by their quantised keys so both triangles of a
+// shared edge list them alike.
+struct EdgeEnd {
+  glm::i64vec3 key;
+  vec2 uv;  // texels
+  vec3 normal;
+};
+struct TriangleEdge {
+  EdgeEnd end[2];
+  int instance;
+};
+
+bool key_less(const glm::i64vec3& a, const glm::i64vec3& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+
+struct EdgeKeyHash {
+  size_t operator()(const std::pair<glm::i64vec3, glm::i64vec3>& k) const {
+    uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (const glm::i64vec3* v : {&k.first, &k.second})
+      for (int i = 0; i < 3; ++i) h = hash_mix(h, static_cast<uint64_t>((*v)[i]));
+    return static_cast<size_t>(h);
+  }
+};
+
 }  // namespace
+
+Seams find_seams(const Scene& scene, int width, int height, float tolerance) {
+  if (width < 1 || height < 1)
+    throw Error(fmt::format("seams: atlas size {}x{} must be positive", width, height));
+  // The scene's extent, for the default tolerance.
+  vec3 lo(kInf), hi(-kInf);
+  for (const Instance& inst : scene.instances) {
+    const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+    if (mesh.uv1.empty()) continue;
+    for (const vec3& p : mesh.positions) {
+      const vec3 w = vec3(inst.transform * vec4(p, 1.0f));
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+  }
+  Seams seams;
+  if (!(hi.x >= lo.x)) return seams;
+  // Split vertices of one mesh have bit-equal positions; neighbours in other meshes come
+  // through their own transforms, hence a tolerance well above float rounding of the
+  // coordinates (1e-7 relative) and far below any modelled feature.
+  const float tol = tolerance > 0.0f ? tolerance : 1e-6f * std::max(glm::length(hi - lo), 1e-6f);
+  const vec2 size{float(width), float(height)};
+  const auto quantise = [&](const vec3& p) {
+    return glm::i64vec3(std::llround(double(p.x) / tol), std::llround(double(p.y) / tol),
+                        std::llround(double(p.z) / tol));
+  };
+
+  std::vector<TriangleEdge> edges;
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+    if (mesh.uv1.size() != mesh.positions.size()) continue;
+    const mat3 normal_matrix = glm::transpose(glm::inverse(mat3(inst.transform)));
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+      const uint32_t* idx = &mesh.indices[3 * t];
+      for (int k = 0; k < 3; ++k) {
+        TriangleEdge e;
+        e.instance = int(i);
+        for (int j = 0; j < 2; ++j) {
+          const uint32_t v = idx[(k + j) % 3];
+          e.end[j].key = quantise(vec3(inst.transform * vec4(mesh.positions[v], 1.0f)));
+          e.end[j].uv = mesh.uv1[v] * size;
+          e.end[j].normal = mesh.normals.size() == mesh.positions.size()
+                                ? glm::normalize(normal_matrix * mesh.normals[v])
+                                : vec3(0.0f);
+        }
+        if (e.end[0].key == e.end[1].key) continue;  // degenerate at this tolerance
+        if (key_less(e.end[1].key, e.end[0].key)) std::swap(e.end[0], e.end[1]);
+        edges.push_back(e);
+      }
+    }
+  }
+  std::unordered_map<std::pair<glm::i64vec3, glm::i64vec3>, std::vector<int>, EdgeKeyHash> by_key;
+  for (size_t i = 0; i < edges.size(); ++i)
+    by_key[{edges[i].end[0].key, edges[i].end[1].key}].push_back(int(i));
+
+  // Walk the edges in their own order (not the hash map's) so the samples are deterministic.
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const std::vector<int>& group = by_key.at({edges[i].end[0].key, edges[i].end[1].key});
+    for (const int j : group) {
+      if (j <= int(i)) continue;  // each pair once
+      const TriangleEdge& a = edges[i];
+      const TriangleEdge& b = edges[size_t(j)];
+      bool smooth = true, split = false;
+      for (int k = 0; k < 2; ++k) {
+        smooth = smooth && glm::dot(a.end[k].normal, b.end[k].normal) >= kSeamNormalCos;
+        split = split || glm::length(a.end[k].uv - b.end[k].uv) > 1e-3f;
+      }
+      if (!smooth || !split) continue;
+      ++seams.edges;
+      if (a.instance == b.instance) ++seams.within_instance;
+      const float texels =
+          std::max(glm::length(a.end[1].uv - a.end[0].uv), glm::length(b.end[1].uv - b.end[0].uv));
+      const int n = std::max(2, int(std::ceil(texels * float(kSeamSamplesPerTexel))));
+      for (int k = 0; k < n; ++k) {
+        const float u = (float(k) + 0.5f) / float(n);
+        seams.samples.push_back(
+            {{glm::mix(a.end[0].uv, a.end[1].uv, u), glm::mix(b.end[0].uv, b.end[1].uv, u)}});
+      }
+    }
+  }
+  return seams;
+}
+
+namespace {
+
+// The four texels and weights of a bilinear lookup (clamp to edge).
+struct Taps {
+  int texel[4];
+  float weight[4];
+};
+
+Taps bilinear_taps(int width, int height, const vec2& texel) {
+  const float px = texel.x - 0.5f, py = texel.y - 0.5f;
+  const float fx0 = std::floor(px), fy0 = std::floor(py);
+  const float fx = px - fx0, fy = py - fy0;
+  const int x0 = int(fx0), y0 = int(fy0);
+  const auto at = [&](int x, int y) {
+    return std::clamp(y, 0, height - 1) * width + std::clamp(x, 0, width - 1);
+  };
+  return Taps{{at(x0, y0), at(x0 + 1, y0), at(x0, y0 + 1), at(x0 + 1, y0 + 1)},
+              {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy}};
+}
+
+}  // namespace
+
+Color bilinear_lookup(const Image& layer, const vec2& texel) {
+  const Taps taps = bilinear_taps(layer.width(), layer.height(), texel);
+  Color c(0.0f);
+  for (int k = 0; k < 4; ++k)
+    c += taps.weight[k] * layer.rgb(taps.texel[k] % layer.width(), taps.texel[k] / layer.width());
+  return c;
+}
+
+SeamStitchStats stitch_seams(const Seams& seams, const atlas::TexelRaster& raster,
+                             std::vector<Image>& layers, const SeamStitchOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const int width = raster.width, height = raster.height;
+  for (const Image& layer : layers)
+    if (layer.width() != width || layer.height() != height || layer.channels() < 3)
+      throw Error(fmt::format("seam stitching: a layer of {}x{} for a {}x{} raster", layer.width(),
+                              layer.height(), width, height));
+  if (!(options.covered_weight > 0.0f) || !(options.gutter_weight > 0.0f) ||
+      options.max_iterations < 1)
+    throw Error("seam stitching: the regulariser's weights must be positive");
+  SeamStitchStats stats;
+  stats.samples = int64_t(seams.samples.size());
+  if (seams.samples.empty() || layers.empty()) return stats;
+
+  // Rows of R (8 taps: side 0 with +w, side 1 with −w) over the unknowns (touched texels).
+  struct Row {
+    int var[8];
+    float w[8];
+  };
+  std::vector<Row> rows(seams.samples.size());
+  std::unordered_map<int, int> var_of;
+  std::vector<int> texel_of;
+  for (size_t r = 0; r < seams.samples.size(); ++r)
+    for (int side = 0; side < 2; ++side) {
+      const Taps taps = bilinear_taps(width, height, seams.samples[r].side[side]);
+      for (int k = 0; k < 4; ++k) {
+        auto [it, added] = var_of.try_emplace(taps.texel[k], int(texel_of.size()));
+        if (added) texel_of.push_back(taps.texel[k]);
+        rows[r].var[4 * side + k] = it->second;
+        rows[r].w[4 * side + k] = side == 0 ? taps.weight[k] : -taps.weight[k];
+      }
+    }
+  const size_t n = texel_of.size();
+  stats.texels = int64_t(n);
+  std::vector<double> lambda(n), diag(n);
+  for (size_t i = 0; i < n; ++i)
+    lambda[i] =
+        raster.sample_of[size_t(texel_of[i])] >= 0 ? options.covered_weight : options.gutter_weight;
+  diag = lambda;
+  for (const Row& row : rows)
+    for (int k = 0; k < 8; ++k) diag[size_t(row.var[k])] += double(row.w[k]) * row.w[k];
+
+  // All channels of all layers at once (K right-hand sides, one matrix), each with its own
+  // CG scalars; unknowns are the changes δ: (RᵀR + Λ) δ = −RᵀR x⁰.
+  const size_t channels = 3 * layers.size();
+  const auto value = [&](size_t c, size_t i) -> float& {
+    const int t = texel_of[i];
+    return layers[c / 3].pixel(t % width, t / width)[c % 3];
+  };
+  // y = (RᵀR + Λ) x, x and y [unknown][channel].
+  const auto apply = [&](const std::vector<double>& x, std::vector<double>& y, bool with_lambda) {
+    std::fill(y.begin(), y.end(), 0.0);
+    for (const Row& row : rows)
+      for (size_t c = 0; c < channels; ++c) {
+        double s = 0.0;
+        for (int k = 0; k < 8; ++k) s += double(row.w[k]) * x[size_t(row.var[k]) * channels + c];
+        for (int k = 0; k < 8; ++k) y[size_t(row.var[k]) * channels + c] += double(row.w[k]) * s;
+      }
+    if (with_lambda)
+      for (size_t i = 0; i < n; ++i)
+        for (size_t c = 0; c < channels; ++c)
+          y[i * channels + c] += lambda[i] * x[i * channels + c];
+  };
+  std::vector<double> x0(n * channels), b(n * channels), delta(n * channels, 0.0),
+      residual(n * channels), z(n * channels), p(n * channels), ap(n * channels);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < channels; ++c) x0[i * channels + c] = value(c, i);
+  apply(x0, b, false);
+  for (double& v : b) v = -v;
+  residual = b;
+  std::vector<double> rz(channels, 0.0), norm_b(channels, 0.0), alpha(channels), beta(channels);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < channels; ++c) {
+      const size_t k = i * channels + c;
+      z[k] = residual[k] / diag[i];
+      p[k] = z[k];
+      rz[c] += residual[k] * z[k];
+      norm_b[c] += b[k] * b[k];
+    }
+  std::vector<bool> done(channels, false);
+  for (size_t c = 0; c < channels; ++c) done[c] = norm_b[c] == 0.0;
+  int iteration = 0;
+  for (; iteration < options.max_iterations; ++iteration) {
+    if (std::all_of(done.begin(), done.end(), [](bool d) { return d; })) break;
+    apply(p, ap, true);
+    std::vector<double> pap(channels, 0.0);
+    for (size_t k = 0; k < n * channels; ++k) pap[k % channels] += p[k] * ap[k];
+    for (size_t c = 0; c < channels; ++c)
+      alpha[c] = done[c] || pap[c] <= 0.0 ? 0.0 : rz[c] / pap[c];
+    std::vector<double> rr(channels, 0.0), rz_next(channels, 0.0);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t c = 0; c < channels; ++c) {
+        const size_t k = i * channels + c;
+        delta[k] += alpha[c] * p[k];
+        residual[k] -= alpha[c] * ap[k];
+        z[k] = residual[k] / diag[i];
+        rr[c] += residual[k] * residual[k];
+        rz_next[c] += residual[k] * z[k];
+      }
+    for (size_t c = 0; c < channels; ++c) {
+      if (rr[c] <= options.tolerance * options.tolerance * norm_b[c]) done[c] = true;
+      beta[c] = rz[c] > 0.0 ? rz_next[c] / rz[c] : 0.0;
+      rz[c] = rz_next[c];
+    }
+    for (size_t k = 0; k < n * channels; ++k) p[k] = z[k] + beta[k % channels] * p[k];
+  }
+  stats.iterations = iteration;
+  for (size_t i = 0; i < n; ++i)
+    for (size_t c = 0; c < channels; ++c)
+      value(c, i) = static_cast<float>(x0[i * channels + c] + delta[i * channels + c]);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
 
 float texel_world_size(const Scene& scene, const atlas::TexelRaster& raster,
                        const atlas::TexelSample& s) {

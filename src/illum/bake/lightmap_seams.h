@@ -37,6 +37,69 @@ struct TexelPushOut {
 TexelPushOut keep_texels_out_of_geometry(const Scene& scene, const RayTracer& tracer,
                                          atlas::TexelRaster& raster);
 
+// One point of a seam edge as each of its two sides maps it into the atlas: texel
+// coordinates (uv1 × atlas size, texel centres at +0.5), where the renderer's bilinear
+// lookup of either side lands.
+struct SeamSample {
+  vec2 side[2];
+};
+
+struct Seams {
+  int64_t edges = 0;                // seam edges (pairs of triangle edges) found
+  int64_t within_instance = 0;      // of which both sides belong to one instance
+  std::vector<SeamSample> samples;  // kSeamSamplesPerTexel per texel of edge length, ≥ 2
+};
+
+// Samples per texel of seam length: ≥ 2 so the piecewise-bilinear lookup along an edge is
+// pinned between texel centres, not only at them.
+inline constexpr int kSeamSamplesPerTexel = 3;
+// Shading normals within this cosine (about 8°) on both sides at both ends: the surface
+// is smooth there, so its light is continuous across the edge. A crease (a box's corner),
+// or the two faces of a thin wall, is no seam: the light may differ there, and stitching
+// would leak it.
+inline constexpr float kSeamNormalCos = 0.99f;
+
+// Finds every seam edge of the light-mapped instances of `scene` (uv1 applied, the atlas
+// `width` × `height`): two triangle edges with the same world end points (within
+// `tolerance`, default 1e-6 of the scene's extent), within one instance or between two,
+// whose uv1 differ at either end by more than 1e-3 texel, and whose shading normals agree
+// (kSeamNormalCos) at both ends. Edges meeting only in part (T-junctions) are not matched.
+// Deterministic (triangle order).
+Seams find_seams(const Scene& scene, int width, int height, float tolerance = 0.0f);
+
+// The renderer's bilinear lookup of an RGB layer at texel coordinates (centres at +0.5,
+// clamped at the border, as the sampler's clamp-to-edge).
+Color bilinear_lookup(const Image& layer, const vec2& texel);
+
+struct SeamStitchOptions {
+  // The regulariser's weights per texel against each seam sample's weight 1: how strongly
+  // a texel keeps its baked value. Covered texels (their value was estimated) hold on
+  // harder than gutter texels (filled by dilation only so bilinear lookups read no black).
+  float covered_weight = 0.005f;
+  float gutter_weight = 0.0005f;
+  int max_iterations = 1000;
+  double tolerance = 1e-6;  // CG stops at this relative residual
+};
+
+struct SeamStitchStats {
+  int64_t samples = 0;  // seam samples (least-squares rows)
+  int64_t texels = 0;   // texels the lookups touch (unknowns per channel)
+  int iterations = 0;   // CG iterations (all channels solved together)
+  double seconds = 0.0;
+};
+
+// Seam stitching: moves the texels under `seams`' lookups so the bilinear values on both
+// sides of every seam sample agree, in the least-squares sense with a regulariser that
+// keeps each texel near its value: minimise over the touched texels x, per channel,
+//   Σ_samples (B₀x − B₁x)² + Σ_texels λ_i (x_i − x⁰_i)²
+// (B_k: the bilinear weights of side k; λ_i from `options`), by conjugate gradients with a
+// Jacobi preconditioner on the normal equations, matrix-free. Every layer (same size) is
+// stitched, each channel on its own with the same matrix; texels no lookup touches are
+// left alone. Deterministic.
+// Throws Error for layers not of the raster's size.
+SeamStitchStats stitch_seams(const Seams& seams, const atlas::TexelRaster& raster,
+                             std::vector<Image>& layers, const SeamStitchOptions& options = {});
+
 // World size of one texel at a sample (metres per texel along the stretchiest uv1
 // direction of its triangle).
 float texel_world_size(const Scene& scene, const atlas::TexelRaster& raster,

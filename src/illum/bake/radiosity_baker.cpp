@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/progressive_shooting.h"
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
@@ -221,6 +222,7 @@ RadiosityBakeOptions RadiosityBakeOptions::from_params(const Params& params) {
   o.sky_rays = params.get<int>("sky_rays", o.sky_rays);
   o.reach_rays = params.get<int>("reach_rays", o.reach_rays);
   o.dilate = params.get<int>("dilate", o.dilate);
+  o.stitch = params.get<bool>("stitch", true);
   o.seed = params.get_seed("seed", o.seed);
   validate(o);
   return o;
@@ -282,7 +284,9 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
                       s.x, s.y, s.instance, s.triangle, scene.name));
   const auto t0 = std::chrono::steady_clock::now();
   const size_t n = raster.samples.size();
-  const int layers = layer_count(options.basis);
+  // Dominant-direction maps are made from SH-L1 sums at the end (lightmap_basis.h).
+  const LightmapBasis accumulated_basis = accumulation_basis(options.basis);
+  const int layers = layer_count(accumulated_basis);
 
   RadiosityBake bake;
   bake.basis = options.basis;
@@ -365,7 +369,7 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
               arrived += e;
               if (skip_delta) continue;
               shown += e;
-              basis_weights(options.basis, w, f.n, f.t, f.b, weight);
+              basis_weights(accumulated_basis, w, f.n, f.t, f.b, weight);
               for (int j = 0; j < layers; ++j) acc[j] += li * weight[j];
             }
             if (sky) {
@@ -392,7 +396,7 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
                 const Color l = environment_radiance(*sky, w) * (inv / pdf);
                 arrived += l * c;
                 shown += l * c;
-                basis_weights(options.basis, w, f.n, f.t, f.b, weight);
+                basis_weights(accumulated_basis, w, f.n, f.t, f.b, weight);
                 for (int j = 0; j < layers; ++j) acc[j] += l * weight[j];
               }
             }
@@ -405,7 +409,7 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     if (interrupt_requested()) throw Interrupted{};
 
     RadiosityTransport transport{
-        scene,        tracer,      raster, albedo, options.basis, layers, options.reach_rays,
+        scene,        tracer,      raster, albedo, accumulated_basis, layers, options.reach_rays,
         options.seed, &accumulated};
     ShootingOptions shooting;
     shooting.threshold = options.threshold;
@@ -436,6 +440,15 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     atlas::dilate(image, raster, options.dilate);
     bake.layers.push_back(std::move(image));
   }
+  if (options.stitch) {
+    const auto stitch_start = std::chrono::steady_clock::now();
+    const Seams seams = find_seams(scene, raster.width, raster.height);
+    stitch_seams(seams, raster, bake.layers);
+    bake.stitch_seconds =  // finding the seams and solving
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - stitch_start).count();
+    bake.seam_edges = seams.edges;
+  }
+  if (options.basis == LightmapBasis::kDominant) bake.layers = dominant_from_sh(bake.layers);
   bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return bake;
 }

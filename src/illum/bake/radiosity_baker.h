@@ -45,13 +45,18 @@ struct RadiosityBakeOptions {
   // 0 turns the scaling off.
   int reach_rays = 256;
   int dilate = 4;
+  // Seam stitching after dilation (lightmap_seams.h: stitch_seams), every layer (for
+  // dominant: the SH-L1 sums it is made from). Off here, so a caller that fills this struct
+  // gets the shot values as they are; from_params turns it on (key stitch).
+  bool stitch = false;
   uint64_t seed = 0;
   double time_budget_s = 0.0;  // 0: none; else stop shooting after it (the map is kept)
   int threads = 0;             // 0 = all cores
   bool progress = true;
 
   // Keys: basis, content, threshold, samples_per_surface (1..1000), group_size (1..15),
-  // sky_rays, reach_rays (0..65536), dilate (0..64), seed. Throws Error on values out of
+  // sky_rays, reach_rays (0..65536), dilate (0..64), stitch (bool, default true), seed.
+  // Throws Error on values out of
   // range (NaN included) or unknown names.
   static RadiosityBakeOptions from_params(const Params& params);
 };
@@ -62,6 +67,8 @@ struct RadiosityBake {
   std::vector<Image> layers;  // as LightmapBake::layers
   Image area;                 // one channel: each covered texel's world area (m²), 0 elsewhere
   double seconds = 0.0;
+  double stitch_seconds = 0.0;  // part of `seconds`
+  int64_t seam_edges = 0;       // seam edges stitched (0 without stitching)
   int64_t shots = 0;
   int64_t rays = 0;
   size_t texels = 0;

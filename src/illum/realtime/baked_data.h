@@ -14,9 +14,11 @@ namespace illum::realtime {
 
 // Baked light-map data for display (uv1 coordinates). Layers: kPlain 1 (irradiance/π, RGB),
 // kRnm 3 (the Source basis maps, tangent space), kShL1 4 (radiance SH coefficients Y00,
-// Y1−1 (y), Y10 (z), Y11 (x), tangent space). All layers share one size. Its intensity is
-// the parameter baked.intensity.
-enum class LightmapKind : int { kNone = 0, kPlain = 1, kRnm = 2, kShL1 = 3 };
+// Y1−1 (y), Y10 (z), Y11 (x), tangent space), kDominant 3 (ambient A, directional colour
+// C, unit dominant direction d in tangent space: E/π(n) = A + C·max(0, n·d),
+// bake/lightmap_basis.h). All layers share one size. Its intensity is the parameter
+// baked.intensity.
+enum class LightmapKind : int { kNone = 0, kPlain = 1, kRnm = 2, kShL1 = 3, kDominant = 4 };
 struct Lightmap {
   LightmapKind kind = LightmapKind::kNone;
   std::vector<Image> layers;

@@ -18,7 +18,11 @@ Lightmap prepare_lightmap_display(Scene& scene, const atlas::LightmapSet& set) {
   Lightmap lightmap;
   lightmap.kind = set.basis == "plain" ? LightmapKind::kPlain
                   : set.basis == "rnm" ? LightmapKind::kRnm
-                                       : LightmapKind::kShL1;
+                  : set.basis == "sh"  ? LightmapKind::kShL1
+                  : set.basis == "dominant"
+                      ? LightmapKind::kDominant
+                      : throw Error(fmt::format("light-map set '{}': unknown basis '{}'",
+                                                set.folder, set.basis));
   lightmap.layers = set.layers;
   return lightmap;
 }

@@ -389,10 +389,11 @@ std::vector<std::string> Renderer::configure(const RenderSettings& settings) {
 }
 
 void Renderer::set_lightmap(const Lightmap& lightmap) {
-  const size_t expected = lightmap.kind == LightmapKind::kPlain  ? 1
-                          : lightmap.kind == LightmapKind::kRnm  ? 3
-                          : lightmap.kind == LightmapKind::kShL1 ? 4
-                                                                 : 0;
+  const size_t expected = lightmap.kind == LightmapKind::kPlain      ? 1
+                          : lightmap.kind == LightmapKind::kRnm      ? 3
+                          : lightmap.kind == LightmapKind::kShL1     ? 4
+                          : lightmap.kind == LightmapKind::kDominant ? 3
+                                                                     : 0;
   if (lightmap.layers.size() != expected)
     throw Error(fmt::format("light-map: {} layers given, this kind needs {}",
                             lightmap.layers.size(), expected));
