@@ -30,6 +30,8 @@ std::span<const Suite> suites() {
        &run_radiosity},
       {"prt", "PRT transfer bake time, VQ ratio and error, texel relighting vs bandwidth",
        &run_prt},
+      {"prt-vs-path", "PRT relit from one bake vs the path tracer (band-limited and true light)",
+       &run_prt_vs_path},
       {"probes", "irradiance-probe bake time per 1000 probes on cornell and sibenik", &run_probes},
       {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
        &run_photon_defaults},
