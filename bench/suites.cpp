@@ -32,6 +32,8 @@ std::span<const Suite> suites() {
        &run_prt},
       {"atlas", "light-map atlas: charts, utilisation, texel density and stretch; build time",
        &run_atlas},
+      {"prt-vs-path", "PRT relit from one bake vs the path tracer (band-limited and true light)",
+       &run_prt_vs_path},
       {"probes", "irradiance-probe bake time per 1000 probes on cornell and sibenik", &run_probes},
       {"photon-defaults", "photon integrator's defaults vs the path tracer at equal time",
        &run_photon_defaults},

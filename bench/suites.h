@@ -38,8 +38,10 @@ int run_lightmap(SuiteArgs args);  // bench_lightmap.cpp: light-map baker vs pat
 int run_lightmap_extras(SuiteArgs args);  // bench_lightmap_extras.cpp: AO/obscurance maps
 int run_radiosity(SuiteArgs args);  // bench_radiosity.cpp: radiosity vs path bake, equal error
 int run_prt(SuiteArgs args);     // bench_prt.cpp: PRT bake time, VQ, texel relighting vs bandwidth
-int run_probes(SuiteArgs args);
-int run_atlas(SuiteArgs args);  // bench_atlas.cpp: atlas charts, utilisation, stretch, time  // bench_probes.cpp: probe bake time per 1000 probes
+int run_probes(SuiteArgs args);  // bench_probes.cpp: probe bake time per 1000 probes
+int run_atlas(SuiteArgs args);   // bench_atlas.cpp: atlas charts, utilisation, stretch, time
+// bench_prt_vs_path.cpp: PRT relit from one bake vs the path tracer, image grid and errors
+int run_prt_vs_path(SuiteArgs args);
 // bench_photon_defaults.cpp: the photon integrator's defaults vs the path tracer
 int run_photon_defaults(SuiteArgs args);
 // bench_converge.cpp: equal-noise efficiency, illum vs Blender Cycles (peer)

@@ -169,6 +169,16 @@ vec3 ambient_term_for(Surface s, int draw) {
   return s.albedo * k * max(e, 0.0);
 }
 
+// Whether ambient_term_for's value already holds the surface's own visibility: PRT transfer
+// (baked shadowed or interreflected: the visibility rays are in it), unless the draw is a
+// probed dynamic object (its ambient cube knows nothing of nearby occluders). SSAO must not
+// darken such a term again (docs/realtime.md "SSAO"). An unshadowed PRT bake is treated the
+// same: the renderer does not know the bake's mode, and unshadowed is the closed-form test mode.
+bool ambient_term_includes_visibility(int draw) {
+  int cube = draw < baked.info.z ? draw_cubes[draw] : 0;
+  return cube == 0 && baked.info.y != kPrtNone;
+}
+
 vec3 ambient_term(Surface s) {
   return ambient_term_for(s, push.view_index);
 }

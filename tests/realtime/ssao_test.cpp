@@ -270,9 +270,9 @@ Image frame(const Scene& scene, const FrameSetup& setup, bool ssao, Color ambien
   if (setup.lightmap && ambient.r > 0.0f)
     r.set_lightmap({LightmapKind::kPlain, {Image(4, 4, 3, ambient.r)}});
   if (setup.prt) {
-    // PRT takes the ambient term's place (albedo · transfer · sun SH), an indirect term for
-    // SSAO; the lights still add the direct part. Zero transfers without ambient: the
-    // frame holds only the direct part.
+    // PRT takes the ambient term's place (albedo · transfer · sun SH), an indirect term SSAO
+    // leaves alone (the transfer holds the visibility); the lights still add the direct part. Zero
+    // transfers without ambient: the frame holds only the direct part.
     size_t vertices = 0;
     for (const Mesh& m : drawn.meshes) vertices += m.positions.size();
     const float k = ambient.r > 0.0f ? 1.0f : 0.0f;
@@ -311,6 +311,20 @@ TEST_F(SsaoTest, NeverDarkensDirectLightAndScalesExactlyTheIndirectTerm) {
     const Color ambient(0.4f, 0.35f, 0.3f);
     const Image off = frame(scene, setup, false, ambient);
     const Image on = frame(scene, setup, true, ambient);
+    if (setup.prt) {
+      // PRT transfer holds the visibility already (lighting.glsl,
+      // ambient_term_includes_visibility): SSAO leaves the frame's bytes alone. The AO buffer
+      // itself must still be computed, with occlusion in it, or this would pass vacuously.
+      EXPECT_EQ(std::memcmp(off.data().data(), on.data().data(), off.data().size() * sizeof(float)),
+                0)
+          << name << ": SSAO darkened PRT, whose transfer already holds the visibility";
+      const Image a = frame(scene, setup, true, ambient, "ao");
+      int occluded = 0;
+      for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) occluded += a.pixel(x, y)[0] < 0.95f;
+      EXPECT_GT(occluded, 100) << name << ": no occlusion in the AO buffer";
+      continue;
+    }
     const Image a = frame(scene, setup, true, ambient, "ao");
     int darkened = 0;
     for (int y = 0; y < off.height(); ++y)

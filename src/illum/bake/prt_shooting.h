@@ -11,12 +11,16 @@
 // interreflected transfer. Rounds end when the unshot total is below `tolerance` × the
 // initial (direct) total, or after `max_rounds`.
 //
-// Kept apart from the PRT baker so that a shooting module shared with the radiosity
-// light-map baker (issue 11) can replace it: the patches, the receiver mapping and the
-// payload size are all this loop knows. The radiosity branch's generic module
-// (bake/progressive_shooting.h, radiosity commit 6842ed2) defines ShootingPatch and
-// ShootingOptions in this namespace; the names here start with Transfer so both can live
-// in one library until this loop is swapped for it.
+// Not the radiosity baker's bake/progressive_shooting.h, checked for issue 11: both are
+// Southwell iterations (an unshot part, the shooter by magnitude × area, a stop at a share
+// of the initial unshot total), but the transport differs. progressive_shooting.h hands a
+// group's power to every receiver through a point-to-disk form factor and one visibility
+// ray each (O(patches) rays a shot, receivers are cells of a texel grid); this loop traces
+// `rays` Monte-Carlo rays per shooter, in rounds of many shooters, and a hit may land on
+// several patches (vertex patches receive by barycentric weight: no grid). Moving PRT onto
+// that module would swap the estimator (its error and cost), not share code; what is
+// common is a dozen lines of bookkeeping. The names here start with Transfer so both live
+// in one library.
 //
 // Deterministic: each shooter's rays come from its own scrambled Sobol' sequence (seed,
 // patch, round) and the receipts are applied in shooter order, whatever the thread count.

@@ -1,6 +1,7 @@
 // SSAO (S001 §4.3 with Méndez's term; docs/realtime.md "SSAO"): occlusion of the indirect
 // terms from the depth buffer and the normals, blurred depth-aware, then applied to the
-// ambient, light-map, ambient-cube and PRT terms only.
+// ambient, light-map and ambient-cube terms only — not to PRT, whose transfer already holds
+// the visibility (lighting.glsl, ambient_term_includes_visibility).
 //
 // Passes (each its own timer scope): "ssao.normals" (pipelines without a G-buffer: normals
 // from the depth buffer, shaders/ssao_normals.comp), "ssao" (the estimator,
@@ -228,7 +229,8 @@ TechniqueDecl ssao_technique() {
   t.summary =
       "screen-space ambient occlusion with Méndez's term saturate(N·ω − bias)/(1 + (t/falloff)²) "
       "over a hemisphere of marched directions, depth-aware blur; scales the ambient, "
-      "light-map, ambient-cube and PRT terms only (normals: the G-buffer's in deferred, from "
+      "light-map and ambient-cube terms only, not PRT (its transfer holds the visibility; "
+      "normals: the G-buffer's in deferred, from "
       "the depth buffer otherwise)";
   t.params = {
       float_param("radius", 0.0f, 0.0f, 1e9f,
