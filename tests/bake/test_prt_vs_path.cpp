@@ -68,6 +68,30 @@ Regions regions_of(const Image& image) {
   return r;
 }
 
+// One interreflected per-texel bake of `bands` with `seed`, relit under `light` from `camera`
+// into a side × side image (16 rays a pixel).
+Image relit_from_a_bake(const Scene& scene, const RayTracer& tracer,
+                        const atlas::TexelRaster& raster, int bands, uint64_t seed,
+                        const bake::ShLight& light, const Camera& camera, int side,
+                        bool background) {
+  bake::PrtBakeOptions o;
+  o.bands = bands;
+  o.mode = bake::PrtMode::kInterreflected;
+  o.spp = kPrtSpp;
+  o.seed = seed;
+  o.progress = false;
+  o.vertices = false;
+  bake::PrtBake baked = bake::bake_prt(scene, tracer, raster, o);
+  bake::PrtSet set;
+  set.bands = bands;
+  set.texel_transfer = std::move(baked.texel_transfer);
+  bake::RelightOptions ro;
+  ro.width = ro.height = side;
+  ro.samples = 16;
+  ro.background = background;
+  return bake::relight(scene, tracer, set, light, camera, ro);
+}
+
 TEST(PrtVsPath, CornellUnderABandLimitedSkyAgreesWithThePathTracer) {
   Scene scene = load_scene("cornell");
   for (Material& m : scene.materials) m.emission = Color(0.0f);
@@ -99,22 +123,8 @@ TEST(PrtVsPath, CornellUnderABandLimitedSkyAgreesWithThePathTracer) {
   // Two bakes (seeds) give the transfer's error; two path-traced images the tracer's.
   std::vector<Regions> prt, path, truth;
   for (uint64_t seed : {1u, 2u}) {
-    bake::PrtBakeOptions o;
-    o.bands = kBands;
-    o.mode = bake::PrtMode::kInterreflected;
-    o.spp = kPrtSpp;
-    o.seed = seed;
-    o.progress = false;
-    o.vertices = false;
-    bake::PrtBake baked = bake::bake_prt(scene, tracer, raster, o);
-    bake::PrtSet set;
-    set.bands = kBands;
-    set.texel_transfer = std::move(baked.texel_transfer);
-    bake::RelightOptions ro;
-    ro.width = ro.height = kSide;
-    ro.samples = 16;
-    const Image relit = bake::relight(scene, tracer, set, light, camera, ro);
-    prt.push_back(regions_of(relit));
+    prt.push_back(regions_of(
+        relit_from_a_bake(scene, tracer, raster, kBands, seed, light, camera, kSide, true)));
   }
   RenderOptions render;
   render.width = render.height = kSide;
@@ -236,22 +246,8 @@ TEST(PrtVsPath, CornellWithAnOpeningUnderABandLimitedSunAgreesPerPixel) {
     return v;
   };
   for (int run = 0; run < kRuns; ++run) {
-    bake::PrtBakeOptions o;
-    o.bands = kOpeningBands;
-    o.mode = bake::PrtMode::kInterreflected;
-    o.spp = kPrtSpp;
-    o.seed = uint64_t(run + 1);
-    o.progress = false;
-    o.vertices = false;
-    bake::PrtBake baked = bake::bake_prt(scene, tracer, raster, o);
-    bake::PrtSet set;
-    set.bands = kOpeningBands;
-    set.texel_transfer = std::move(baked.texel_transfer);
-    bake::RelightOptions ro;
-    ro.width = ro.height = kSidePx;
-    ro.samples = 16;
-    ro.background = false;
-    prt.push_back(sums(bake::relight(scene, tracer, set, light, camera, ro)));
+    prt.push_back(sums(relit_from_a_bake(scene, tracer, raster, kOpeningBands, uint64_t(run + 1),
+                                         light, camera, kSidePx, false)));
   }
   Light env_light;
   env_light.name = "environment";
