@@ -92,6 +92,22 @@ Image relit_from_a_bake(const Scene& scene, const RayTracer& tracer,
   return bake::relight(scene, tracer, set, light, camera, ro);
 }
 
+// The path tracer's side × side image of `scene` lit by the environment map `map` (64 bounces).
+Image path_traced_under(Scene& scene, const Image& map, const Camera& camera, int side, int spp,
+                        uint64_t seed) {
+  Environment env;
+  env.radiance = map;
+  scene.environment = env;
+  const RayTracer t(scene);
+  RenderOptions render;
+  render.width = render.height = side;
+  render.spp = spp;
+  render.progress = false;
+  render.seed = seed;
+  return Integrator::create("path", Params({{"max_bounces", 64}}, "test"))
+      ->render(t, camera, render);
+}
+
 TEST(PrtVsPath, CornellUnderABandLimitedSkyAgreesWithThePathTracer) {
   Scene scene = load_scene("cornell");
   for (Material& m : scene.materials) m.emission = Color(0.0f);
@@ -126,18 +142,8 @@ TEST(PrtVsPath, CornellUnderABandLimitedSkyAgreesWithThePathTracer) {
     prt.push_back(regions_of(
         relit_from_a_bake(scene, tracer, raster, kBands, seed, light, camera, kSide, true)));
   }
-  RenderOptions render;
-  render.width = render.height = kSide;
-  render.spp = kPathSpp;
-  render.progress = false;
   const auto path_tracer = [&](const Image& map, uint64_t seed) {
-    Environment env;
-    env.radiance = map;
-    scene.environment = env;
-    const RayTracer t(scene);
-    render.seed = seed;
-    return regions_of(Integrator::create("path", Params({{"max_bounces", 64}}, "test"))
-                          ->render(t, camera, render));
+    return regions_of(path_traced_under(scene, map, camera, kSide, kPathSpp, seed));
   };
   for (uint64_t seed : {11u, 12u}) path.push_back(path_tracer(limited, seed));
   truth.push_back(path_tracer(map_of(sky, 256), 13));
@@ -253,18 +259,8 @@ TEST(PrtVsPath, CornellWithAnOpeningUnderABandLimitedSunAgreesPerPixel) {
   env_light.name = "environment";
   env_light.type = LightType::kEnvironment;
   scene.lights.push_back(env_light);
-  RenderOptions render;
-  render.width = render.height = kSidePx;
-  render.spp = 1024;
-  render.progress = false;
   const auto traced = [&](const Image& map, uint64_t seed) {
-    Environment env;
-    env.radiance = map;
-    scene.environment = env;
-    const RayTracer t(scene);
-    render.seed = seed;
-    return sums(Integrator::create("path", Params({{"max_bounces", 64}}, "test"))
-                    ->render(t, camera, render));
+    return sums(path_traced_under(scene, map, camera, kSidePx, 1024, seed));
   };
   for (int run = 0; run < kRuns; ++run) {
     std::vector<double> plus = traced(positive, 20 + run), minus = traced(negative, 40 + run);
