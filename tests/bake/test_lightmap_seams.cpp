@@ -212,14 +212,20 @@ TEST(LightmapSeams, NoLightLeaksThroughAThinWall) {
   write_figure("leak_floor_after.png", floor_view(rooms.scene, rooms.room, fixed.layers[0]));
 }
 
-// A sample on an open plane, nothing near: never moved, nothing rejected.
-TEST(LightmapSeams, LeavesFreeSamplesAlone) {
+// A 2 m square plane at y = 0 facing +y with one default material (its index in *material).
+Scene open_plane(int* material) {
   Scene scene;
-  Material m;
-  const int mat = add_material(scene, m);
+  *material = add_material(scene, Material{});
   std::vector<vec3> tris;
   test::push_quad(tris, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
-  add_triangles(scene, tris, mat, "plane");
+  add_triangles(scene, tris, *material, "plane");
+  return scene;
+}
+
+// A sample on an open plane, nothing near: never moved, nothing rejected.
+TEST(LightmapSeams, LeavesFreeSamplesAlone) {
+  int mat = 0;
+  Scene scene = open_plane(&mat);
   test::ChartedScene c(std::move(scene), 32);
   atlas::TexelRaster& raster = c.raster;
   const atlas::TexelRaster before = raster;
@@ -235,12 +241,8 @@ TEST(LightmapSeams, LeavesFreeSamplesAlone) {
 // cannot be pushed out (past one face it is still behind another) and is rejected, the
 // texel left to dilation.
 TEST(LightmapSeams, RejectsSamplesWithNoFreePosition) {
-  Scene scene;
-  Material m;
-  const int mat = add_material(scene, m);
-  std::vector<vec3> tris;
-  test::push_quad(tris, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
-  add_triangles(scene, tris, mat, "plane");
+  int mat = 0;
+  Scene scene = open_plane(&mat);
   // A shell around the plane's centre, 2 mm high and 1 cm wide: closed on all sides, so
   // the sample at its centre sees back faces everywhere in its plane; a second shell
   // around it keeps the first push inside geometry.
