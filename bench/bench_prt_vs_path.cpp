@@ -212,30 +212,14 @@ int run_prt_vs_path(SuiteArgs args) {
 
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   const int w = a.width, h = a.height;
-  // Pixels: `surface` where rays on a 9×9 grid spanning the pixel, edges included, all hit;
-  // `flat` where they also all hit one instance with one normal. Per-pixel figures use the
-  // flat pixels only: where an edge crosses a pixel, the relight's fixed grid and the path
-  // tracer's jittered samples weigh its two sides differently, which is no error of the
-  // transfer. Regions use the surface pixels.
-  std::vector<char> surface(size_t(w) * size_t(h), 1), flat(size_t(w) * size_t(h), 1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      uint32_t instance = kInvalidId;
-      vec3 normal(0.0f);
-      for (int k = 0; k < 81; ++k) {
-        Hit hit;
-        const Ray ray = camera.generate_ray(float(x) + float(k % 9) / 8.0f,
-                                            float(y) + float(k / 9) / 8.0f, w, h);
-        if (!tracer.intersect(ray, &hit)) {
-          surface[i] = flat[i] = 0;
-          break;
-        }
-        const vec3 ng = tracer.interaction(ray, hit).ng;
-        if (k == 0) instance = hit.instance, normal = ng;
-        if (hit.instance != instance || glm::dot(ng, normal) < 0.999f) flat[i] = 0;
-      }
-    }
+  // Per-pixel figures use the flat pixels only (bake::pixel_footprints says why); regions use
+  // every pixel that sees surface over its whole footprint.
+  const std::vector<bake::PixelFootprint> footprints = bake::pixel_footprints(tracer, camera, w, h);
+  std::vector<char> surface(footprints.size()), flat(footprints.size());
+  for (size_t i = 0; i < footprints.size(); ++i) {
+    surface[i] = footprints[i] != bake::PixelFootprint::kMiss;
+    flat[i] = footprints[i] == bake::PixelFootprint::kFlat;
+  }
 
   const int cols = 4, gap = 2;
   Image grid(cols * w + (cols - 1) * gap, int(lights.size()) * (h + gap) - gap, 3, 1.0f);

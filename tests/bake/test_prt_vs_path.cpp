@@ -220,27 +220,10 @@ TEST(PrtVsPath, CornellWithAnOpeningUnderABandLimitedSunAgreesPerPixel) {
   // Where an edge (a block's silhouette, the sky through the opening) crosses a pixel, the
   // relight's fixed 4×4 grid and the path tracer's jittered samples weigh the two sides
   // differently (measured: 11 % at a block's corner), which is not the transfer's error.
-  std::vector<char> surface(n, 1);
-  for (int y = 0; y < kSidePx; ++y)
-    for (int x = 0; x < kSidePx; ++x) {
-      uint32_t instance = kInvalidId;
-      vec3 normal(0.0f);
-      for (int k = 0; k < 81; ++k) {
-        Hit hit;
-        const Ray ray = camera.generate_ray(float(x) + float(k % 9) / 8.0f,
-                                            float(y) + float(k / 9) / 8.0f, kSidePx, kSidePx);
-        if (!tracer.intersect(ray, &hit)) {
-          surface[size_t(y) * kSidePx + x] = 0;
-          break;
-        }
-        const vec3 ng = tracer.interaction(ray, hit).ng;
-        if (k == 0) instance = hit.instance, normal = ng;
-        if (hit.instance != instance || glm::dot(ng, normal) < 0.999f) {
-          surface[size_t(y) * kSidePx + x] = 0;
-          break;
-        }
-      }
-    }
+  const std::vector<bake::PixelFootprint> footprints =
+      bake::pixel_footprints(tracer, camera, kSidePx, kSidePx);
+  std::vector<char> surface(n);
+  for (size_t i = 0; i < n; ++i) surface[i] = footprints[i] == bake::PixelFootprint::kFlat;
   std::vector<std::vector<double>> prt, path;
   const auto sums = [&](const Image& image) {
     std::vector<double> v(n);

@@ -188,4 +188,28 @@ Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, co
   return image;
 }
 
+std::vector<PixelFootprint> pixel_footprints(const RayTracer& tracer, const Camera& camera,
+                                             int width, int height) {
+  std::vector<PixelFootprint> out(size_t(width) * size_t(height), PixelFootprint::kFlat);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      PixelFootprint& f = out[size_t(y) * size_t(width) + size_t(x)];
+      uint32_t instance = kInvalidId;
+      vec3 normal(0.0f);
+      for (int k = 0; k < 81; ++k) {
+        Hit hit;
+        const Ray ray = camera.generate_ray(float(x) + float(k % 9) / 8.0f,
+                                            float(y) + float(k / 9) / 8.0f, width, height);
+        if (!tracer.intersect(ray, &hit)) {
+          f = PixelFootprint::kMiss;
+          break;
+        }
+        const vec3 ng = tracer.interaction(ray, hit).ng;
+        if (k == 0) instance = hit.instance, normal = ng;
+        if (hit.instance != instance || glm::dot(ng, normal) < 0.999f) f = PixelFootprint::kSurface;
+      }
+    }
+  return out;
+}
+
 }  // namespace illum::bake

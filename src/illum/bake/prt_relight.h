@@ -54,4 +54,14 @@ struct RelightOptions {
 Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, const ShLight& light,
               const Camera& camera, const RelightOptions& options);
 
+// What each pixel of a width × height image from `camera` sees over its whole footprint, by
+// rays on a 9×9 grid spanning the pixel, edges included: kMiss (a ray missed), kSurface (all
+// hit), kFlat (all hit one instance with one geometric normal). Per-pixel comparisons of
+// `relight` with the path tracer use the flat pixels: where an edge crosses a pixel, the
+// relight's fixed ray grid and the path tracer's jittered samples weigh its sides
+// differently, which is no error of the transfer.
+enum class PixelFootprint : uint8_t { kMiss, kSurface, kFlat };
+std::vector<PixelFootprint> pixel_footprints(const RayTracer& tracer, const Camera& camera,
+                                             int width, int height);
+
 }  // namespace illum::bake
