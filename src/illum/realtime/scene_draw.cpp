@@ -68,13 +68,18 @@ VkRenderingAttachmentInfo attachment(VkImageView view, VkImageLayout layout, boo
   return a;
 }
 
+// Corner k (0..7) of `b`: bit 0 picks max.x, bit 1 max.y, bit 2 max.z.
+vec3 box_corner(const Bounds3& b, int k) {
+  return vec3((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+              (k & 4) ? b.max.z : b.min.z);
+}
+
 // Whether every corner of `b` lies outside one clip plane of `clip` (then nothing of it can be
 // rasterized); the near and far planes count only when `depth` is true.
 bool outside(const mat4& clip, const Bounds3& b, bool depth) {
   int below_x = 0, above_x = 0, below_y = 0, above_y = 0, below_z = 0, above_z = 0;
   for (int k = 0; k < 8; ++k) {
-    const vec3 p((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
-                 (k & 4) ? b.max.z : b.min.z);
+    const vec3 p = box_corner(b, k);
     const vec4 h = clip * vec4(p, 1.0f);
     below_x += h.x < -h.w;
     above_x += h.x > h.w;
@@ -95,8 +100,7 @@ float farthest_depth(const mat4& clip, const Bounds3& b) {
   const vec4 row(clip[0][2], clip[1][2], clip[2][2], clip[3][2]);
   float farthest = -std::numeric_limits<float>::infinity();
   for (int k = 0; k < 8; ++k) {
-    const vec3 p((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
-                 (k & 4) ? b.max.z : b.min.z);
+    const vec3 p = box_corner(b, k);
     farthest = std::max(farthest, glm::dot(row, vec4(p, 1.0f)));
   }
   return farthest;
