@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "illum/core/error.h"
+#include "illum/scene/gltf_accessors.h"
 #include "illum/scene/gltf_structure.h"
 #include "illum/scene/loaders.h"
 #include "illum/scene/mesh_processing.h"
@@ -28,16 +29,6 @@ namespace illum::detail {
 namespace {
 
 using nlohmann::json;
-
-// Decoded geometry (vertex attributes as floats, indices as 32-bit integers, instances) may
-// take at most kDecodeExpansion times the bytes of the input — the file and its buffer files
-// — plus kDecodeAllowanceBytes. Honest files stay well inside: an attribute widens at most
-// 4× (a normalized byte becomes a float), and primitives that share a vertex accessor keep
-// only the vertices their indices use. A file that declares far more than it holds (a huge
-// count on an accessor without bufferView, one accessor read by thousands of primitives, a
-// mesh of many primitives under thousands of nodes) stops with an error instead.
-constexpr uint64_t kDecodeExpansion = 16;
-constexpr uint64_t kDecodeAllowanceBytes = uint64_t{64} << 20;
 
 std::string one_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
@@ -69,8 +60,7 @@ class GltfReader {
         doc_(source.json),
         scene_(scene),
         options_(options),
-        input_bytes_(source.input_bytes),
-        budget_left_(kDecodeExpansion * source.input_bytes + kDecodeAllowanceBytes),
+        accessors_(path, model, source.input_bytes),
         image_bytes_(image_bytes) {}
 
   void read() {
@@ -89,158 +79,6 @@ class GltfReader {
   // "x.gltf: materials[2] 'Glass'": the prefix of the shared value checks' messages.
   std::string where(const char* list, size_t index, const std::string& name) const {
     return fmt::format("{}: {}[{}]{}", path_, list, index, quoted(name));
-  }
-
-  // Takes `count` items of `item_bytes` each from the decode budget before they are
-  // allocated (the product is never formed: a declared count may be near 2⁶⁴).
-  void charge(uint64_t count, uint64_t item_bytes, const std::string& what) {
-    if (count > budget_left_ / item_bytes)
-      fail(fmt::format(
-          "{} would decode {} items of {} bytes, past the decode budget ({} × the {} "
-          "input bytes + {} MiB): the file declares far more data than it holds",
-          what, count, item_bytes, kDecodeExpansion, input_bytes_, kDecodeAllowanceBytes >> 20));
-    budget_left_ -= count * item_bytes;
-  }
-
-  const tinygltf::Accessor& accessor(int index, const std::string& what) const {
-    if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
-      fail(fmt::format("{} refers to accessor {}, which does not exist", what, index));
-    return model_.accessors[index];
-  }
-
-  // Decodes `want` floats per element of accessor `index` into `out`, for the elements listed
-  // in `subset` (all of them when it is null), honouring byte strides and normalized integer
-  // types. Indices go through read_indices instead.
-  void read_attribute(int index, int want, const std::string& what,
-                      const std::vector<uint32_t>* subset, std::vector<float>& out) {
-    const tinygltf::Accessor& acc = accessor(index, what);
-    const int comps = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type));
-    if (comps != want)
-      fail(fmt::format("{} (accessors[{}]) has {} components, expected {}", what, index, comps,
-                       want));
-    if (acc.sparse.isSparse)
-      fail(fmt::format("{} (accessors[{}]) is sparse, which is not supported", what, index));
-    const size_t n = subset != nullptr ? subset->size() : acc.count;
-    charge(n, want * sizeof(float), what);
-    out.assign(n * static_cast<size_t>(want), 0.0f);
-    if (acc.bufferView < 0) return;  // all zeros by the spec
-    const unsigned char* base = element_base(acc, index, what);
-    const size_t csize = static_cast<size_t>(
-        tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType)));
-    const size_t stride = element_stride(acc);
-    for (size_t k = 0; k < n; ++k) {
-      const size_t e = subset != nullptr ? (*subset)[k] : k;
-      const unsigned char* p = base + e * stride;
-      for (int c = 0; c < want; ++c) {
-        out[k * want + c] = component(p + c * csize, acc.componentType, acc.normalized);
-      }
-    }
-  }
-
-  // The indices of accessor `index`, each checked against the `vertex_count` they index.
-  std::vector<uint32_t> read_indices(int index, size_t vertex_count, const std::string& what) {
-    const tinygltf::Accessor& acc = accessor(index, what);
-    if (acc.type != TINYGLTF_TYPE_SCALAR || acc.bufferView < 0)
-      fail(fmt::format("{} (accessors[{}]) must be a scalar accessor with a bufferView", what,
-                       index));
-    charge(acc.count, sizeof(uint32_t), what);
-    const unsigned char* base = element_base(acc, index, what);
-    const size_t stride = element_stride(acc);
-    std::vector<uint32_t> out(acc.count);
-    for (size_t e = 0; e < acc.count; ++e) {
-      const unsigned char* p = base + e * stride;
-      switch (acc.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-          out[e] = *p;
-          break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-          uint16_t v;
-          std::memcpy(&v, p, 2);
-          out[e] = v;
-          break;
-        }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-          std::memcpy(&out[e], p, 4);
-          break;
-        default:
-          fail(fmt::format("{} (accessors[{}]) has component type {}, not an unsigned integer",
-                           what, index, acc.componentType));
-      }
-      if (out[e] >= vertex_count)
-        fail(fmt::format("{} (accessors[{}]) entry {} is vertex {}, past the {} vertices", what,
-                         index, e, out[e], vertex_count));
-    }
-    return out;
-  }
-
-  size_t element_stride(const tinygltf::Accessor& acc) const {
-    const int stride = acc.ByteStride(model_.bufferViews[acc.bufferView]);
-    return stride > 0 ? static_cast<size_t>(stride) : 0;
-  }
-
-  // Start of the accessor's data, after checking (again: gltf_structure.cpp did it on the
-  // JSON) that all of it lies inside its view and the buffer tinygltf loaded.
-  const unsigned char* element_base(const tinygltf::Accessor& acc, int index,
-                                    const std::string& what) const {
-    if (static_cast<size_t>(acc.bufferView) >= model_.bufferViews.size())
-      fail(fmt::format("{} (accessors[{}]) refers to bufferView {}, which does not exist", what,
-                       index, acc.bufferView));
-    const tinygltf::BufferView& view = model_.bufferViews[acc.bufferView];
-    if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model_.buffers.size())
-      fail(fmt::format("bufferViews[{}] refers to buffer {}, which does not exist", acc.bufferView,
-                       view.buffer));
-    const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
-    const int stride = acc.ByteStride(view);
-    if (stride <= 0)
-      fail(fmt::format("{} (accessors[{}]) has an invalid type or byte stride", what, index));
-    const size_t elem =
-        static_cast<size_t>(
-            tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType))) *
-        static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type)));
-    const size_t view_end = std::min(view.byteOffset + view.byteLength, buffer.data.size());
-    const size_t start = view.byteOffset + acc.byteOffset;
-    const bool fits = acc.count > 0 && start <= view_end && elem <= view_end - start &&
-                      acc.count - 1 <= (view_end - start - elem) / static_cast<size_t>(stride);
-    if (!fits)
-      fail(fmt::format("{} (accessors[{}]) reads past the end of bufferViews[{}]", what, index,
-                       acc.bufferView));
-    return buffer.data.data() + start;
-  }
-
-  static float component(const unsigned char* p, int type, bool normalized) {
-    switch (type) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-        float v;
-        std::memcpy(&v, p, 4);
-        return v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-        const float v = *p;
-        return normalized ? v / 255.0f : v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_BYTE: {
-        const float v = static_cast<float>(static_cast<int8_t>(*p));
-        return normalized ? std::max(v / 127.0f, -1.0f) : v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        uint16_t v;
-        std::memcpy(&v, p, 2);
-        return normalized ? static_cast<float>(v) / 65535.0f : static_cast<float>(v);
-      }
-      case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        int16_t v;
-        std::memcpy(&v, p, 2);
-        return normalized ? std::max(static_cast<float>(v) / 32767.0f, -1.0f)
-                          : static_cast<float>(v);
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-        uint32_t v;
-        std::memcpy(&v, p, 4);
-        return static_cast<float>(v);
-      }
-      default:
-        return 0.0f;
-    }
   }
 
   // One illum texture per (glTF texture, encoding): base colour and emission are sRGB,
@@ -425,11 +263,11 @@ class GltfReader {
           return it == prim.attributes.end() ? -1 : it->second;
         };
         if (attr("POSITION") < 0) fail(fmt::format("{} has no POSITION attribute", at));
-        const size_t count = accessor(attr("POSITION"), at + " POSITION").count;
+        const size_t count = accessors_.accessor(attr("POSITION"), at + " POSITION").count;
         for (const char* key : {"NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1"}) {
-          if (attr(key) >= 0 && accessor(attr(key), at + " " + key).count != count)
+          if (attr(key) >= 0 && accessors_.accessor(attr(key), at + " " + key).count != count)
             fail(fmt::format("{}: {} has {} elements for {} positions", at, key,
-                             accessor(attr(key), at).count, count));
+                             accessors_.accessor(attr(key), at).count, count));
         }
 
         Mesh mesh;
@@ -440,7 +278,7 @@ class GltfReader {
         std::vector<uint32_t> used;
         bool compact = false;
         if (prim.indices >= 0) {
-          mesh.indices = read_indices(prim.indices, count, at + " indices");
+          mesh.indices = accessors_.read_indices(prim.indices, count, at + " indices");
           used = mesh.indices;
           std::sort(used.begin(), used.end());
           used.erase(std::unique(used.begin(), used.end()), used.end());
@@ -451,29 +289,29 @@ class GltfReader {
                                         used.begin());
           }
         } else {
-          charge(count, sizeof(uint32_t), at + " indices");
+          accessors_.charge(count, sizeof(uint32_t), at + " indices");
           mesh.indices.resize(count - count % 3);
           for (size_t i = 0; i < mesh.indices.size(); ++i)
             mesh.indices[i] = static_cast<uint32_t>(i);
         }
         const std::vector<uint32_t>* subset = compact ? &used : nullptr;
         std::vector<float> values;
-        read_attribute(attr("POSITION"), 3, at + " POSITION", subset, values);
+        accessors_.read_attribute(attr("POSITION"), 3, at + " POSITION", subset, values);
         mesh.positions = to_vectors<vec3>(values);
         if (attr("NORMAL") >= 0) {
-          read_attribute(attr("NORMAL"), 3, at + " NORMAL", subset, values);
+          accessors_.read_attribute(attr("NORMAL"), 3, at + " NORMAL", subset, values);
           mesh.normals = to_vectors<vec3>(values);
         }
         if (attr("TANGENT") >= 0) {
-          read_attribute(attr("TANGENT"), 4, at + " TANGENT", subset, values);
+          accessors_.read_attribute(attr("TANGENT"), 4, at + " TANGENT", subset, values);
           mesh.tangents = to_vectors<vec4>(values);
         }
         if (attr("TEXCOORD_0") >= 0) {
-          read_attribute(attr("TEXCOORD_0"), 2, at + " TEXCOORD_0", subset, values);
+          accessors_.read_attribute(attr("TEXCOORD_0"), 2, at + " TEXCOORD_0", subset, values);
           mesh.uv0 = to_vectors<vec2>(values);
         }
         if (attr("TEXCOORD_1") >= 0) {
-          read_attribute(attr("TEXCOORD_1"), 2, at + " TEXCOORD_1", subset, values);
+          accessors_.read_attribute(attr("TEXCOORD_1"), 2, at + " TEXCOORD_1", subset, values);
           mesh.uv1 = to_vectors<vec2>(values);
         }
         if (prim.material >= 0 && static_cast<size_t>(prim.material) >= model_.materials.size())
@@ -620,7 +458,7 @@ class GltfReader {
         inst.name = node.name.empty() ? model_.meshes[node.mesh].name : node.name;
         inst.mesh = m;
         inst.transform = world;
-        charge(1, sizeof(Instance) + inst.name.size(), at + " instances");
+        accessors_.charge(1, sizeof(Instance) + inst.name.size(), at + " instances");
         scene_.instances.push_back(inst);
       }
     }
@@ -755,8 +593,7 @@ class GltfReader {
   const json& doc_;
   Scene& scene_;
   const LoadOptions& options_;
-  const uint64_t input_bytes_;
-  uint64_t budget_left_;
+  GltfAccessors accessors_;
   std::map<std::pair<int, bool>, int> textures_;
   // Encoded bytes of the images tinygltf read from data: URIs and files (keep_image_bytes).
   const std::map<int, std::vector<uint8_t>>& image_bytes_;
