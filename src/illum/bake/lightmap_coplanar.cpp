@@ -61,8 +61,10 @@ bool match_pair(const OpenEdge& a, const EdgeLine& la, const OpenEdge& b, const 
             glm::length(glm::mix(a.uv[0], a.uv[1], ua) - glm::mix(b.uv[0], b.uv[1], ub)) > 1e-3f;
   }
   if (!split) return false;  // one chart continuing across the junction: nothing to join
+  // Texels of overlap on the finer side; a whole number within float rounding (15.000001)
+  // gets that many texels' samples, not one more.
   const float texels = (hi - lo) / std::min(la.texel, lb.texel);
-  const int n = std::max(2, int(std::ceil(texels * float(kSeamSamplesPerTexel))));
+  const int n = std::max(2, int(std::ceil(texels * float(kSeamSamplesPerTexel) - 1e-3f)));
   for (int k = 0; k < n; ++k) {
     const float s = lo + (hi - lo) * (float(k) + 0.5f) / float(n);
     samples.push_back(
