@@ -296,6 +296,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
     baked.seconds = radiosity_baked.seconds;
     baked.stitch_seconds = radiosity_baked.stitch_seconds;
     baked.seam_edges = radiosity_baked.seam_edges;
+    baked.coplanar_edges = radiosity_baked.coplanar_edges;
     baked.rays = radiosity_baked.rays;
     baked.texels = radiosity_baked.texels;
   } else {
@@ -342,6 +343,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"seed", radiosity_options.seed},
                 {"dilate", radiosity_options.dilate},
                 {"stitch", radiosity_options.stitch},
+                {"stitch_coplanar", radiosity_options.stitch_coplanar},
                 {"shots", radiosity_baked.shots},
                 {"initial_power", radiosity_baked.initial_power},
                 {"remaining_power", radiosity_baked.remaining_power},
@@ -353,6 +355,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"seed", bake_options.seed},
                 {"dilate", bake_options.dilate},
                 {"stitch", bake_options.stitch},
+                {"stitch_coplanar", bake_options.stitch_coplanar},
                 {"denoise", baked.denoised},
                 {"denoise_strength", bake_options.denoise_strength}};
     if (args.time_s > 0.0)
@@ -371,6 +374,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                  {"bake_seconds", baked.seconds},
                                  {"denoise_seconds", baked.denoise_seconds},
                                  {"seam_edges", baked.seam_edges},
+                                 {"coplanar_edges", baked.coplanar_edges},
                                  {"stitch_seconds", baked.stitch_seconds}});
   if (extras_options.any()) {
     set.bake["extras_seconds"] = extras.seconds;
@@ -481,7 +485,8 @@ void add_bake_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("-p,--param", args->params,
                   "atlas or baker parameter key=value (padding, max_chart_angle, dilate, "
-                  "denoise=true|false, denoise_strength)");
+                  "denoise=true|false, denoise_strength, stitch=true|false, "
+                  "stitch_coplanar=true|false)");
   cmd->add_option("--kind", args->kind,
                   "lightmap (path-traced light-map), prt (SH transfer, docs/prt.md) or probes "
                   "(irradiance probe grid, docs/probes.md)")

@@ -19,6 +19,7 @@
 #include "illum/bake/radiosity_baker.h"
 #include "illum/core/image.h"
 #include "illum/trace/ray_tracer.h"
+#include "seam_figures.h"
 
 namespace illum {
 namespace {
@@ -118,14 +119,6 @@ Image floor_view(const Scene& scene, int room, const Image& map) {
   return out;
 }
 
-void write_figure(const std::string& name, const Image& image) {
-  const char* dir = std::getenv("ILLUM_SEAMS_IMAGES");
-  if (!dir) return;
-  ImageWriteOptions o;
-  o.exposure = 1.0f;
-  write_image(std::string(dir) + "/" + name, image, o);
-}
-
 // The dark room has no light path to the light: the wall is closed and reaches floor and
 // ceiling, every shadow ray from the dark room is blocked, and no emitter is there. So its
 // true light-map is exactly 0 and every estimate of a texel whose sample point lies in it
@@ -208,8 +201,10 @@ TEST(LightmapSeams, NoLightLeaksThroughAThinWall) {
   std::printf("radiosity: dark half max E/pi %.5f with push-out\n", radiosity_dark);
   EXPECT_EQ(radiosity_dark, 0.0);
 
-  write_figure("leak_floor_before.png", floor_view(rooms.scene, rooms.room, unfixed.layers[0]));
-  write_figure("leak_floor_after.png", floor_view(rooms.scene, rooms.room, fixed.layers[0]));
+  test::write_seam_figure("leak_floor_before.png",
+                          floor_view(rooms.scene, rooms.room, unfixed.layers[0]));
+  test::write_seam_figure("leak_floor_after.png",
+                          floor_view(rooms.scene, rooms.room, fixed.layers[0]));
 }
 
 // A 2 m square plane at y = 0 facing +y with one default material (its index in *material).
@@ -405,10 +400,11 @@ TEST(LightmapSeams, StitchingJoinsTheChartsOfASmoothSphere) {
   EXPECT_GT(before.max_relative, 0.01) << "no visible seam before stitching: nothing tested";
   // Seen from the light's side.
   const vec3 eye = 1.7f * glm::normalize(c.scene.lights[0].position);
-  write_figure("seam_sphere_before.png",
-               sphere_view(c, unstitched[0], c.scene.lights[0], float(brightest), eye, 320));
-  write_figure("seam_sphere_after.png",
-               sphere_view(c, baked.layers[0], c.scene.lights[0], float(brightest), eye, 320));
+  test::write_seam_figure("seam_sphere_before.png", sphere_view(c, unstitched[0], c.scene.lights[0],
+                                                                float(brightest), eye, 320));
+  test::write_seam_figure(
+      "seam_sphere_after.png",
+      sphere_view(c, baked.layers[0], c.scene.lights[0], float(brightest), eye, 320));
   EXPECT_LT(after.max_relative, 0.01);
 
   // The bakers stitch when asked (the CLI's default): the same result.

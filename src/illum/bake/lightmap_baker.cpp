@@ -204,6 +204,7 @@ LightmapBakeOptions LightmapBakeOptions::from_params(const Params& params) {
   o.denoise_strength = params.get_float_in("denoise_strength", o.denoise_strength,
                                            kMinDenoiseStrength, kMaxDenoiseStrength);
   o.stitch = params.get<bool>("stitch", true);
+  o.stitch_coplanar = params.get<bool>("stitch_coplanar", o.stitch_coplanar);
   o.seed = params.get_seed("seed", o.seed);
   return o;
 }
@@ -437,15 +438,16 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   }
   for (Image& layer : bake.layers) atlas::dilate(layer, raster, options.dilate);
   if (options.stitch) {
-    const auto stitch_start = std::chrono::steady_clock::now();
-    const Seams seams = find_seams(scene, raster.width, raster.height);
-    const SeamStitchStats stitched = stitch_seams(seams, raster, bake.layers);
-    bake.stitch_seconds =  // finding the seams and solving
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - stitch_start).count();
-    bake.seam_edges = seams.edges;
-    log::info("bake: stitched {} seam edges ({} samples, {} texels, {} CG iterations) in {:.2f}s",
-              seams.edges, stitched.samples, stitched.texels, stitched.iterations,
-              stitched.seconds);
+    const StitchReport stitched =
+        stitch_baked_layers(scene, raster, bake.layers, options.stitch_coplanar);
+    bake.stitch_seconds = stitched.seconds;
+    bake.seam_edges = stitched.seam_edges;
+    bake.coplanar_edges = stitched.coplanar_edges;
+    log::info(
+        "bake: stitched {} seam edges and {} coplanar edge pairs ({} samples, {} texels, {} CG "
+        "iterations) in {:.2f}s",
+        stitched.seam_edges, stitched.coplanar_edges, stitched.solve.samples, stitched.solve.texels,
+        stitched.solve.iterations, stitched.seconds);
   }
   if (options.basis == LightmapBasis::kDominant) bake.layers = dominant_from_sh(bake.layers);
   bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -46,6 +46,9 @@ struct LightmapBakeOptions {
   // dominant: the SH-L1 sums it is made from). Off here like `denoise`; from_params turns
   // it on (key stitch).
   bool stitch = false;
+  // With stitch: also join coplanar neighbours meeting in part (T-junctions, near
+  // neighbours: lightmap_coplanar.h). Key stitch_coplanar (default true).
+  bool stitch_coplanar = true;
   // The denoiser's luminance_sigma: light differences up to about this many standard
   // deviations of the difference's noise are smoothed over, larger ones kept as edges.
   // 3 ≈ SVGF's σ_l = 4 (which divides by one texel's deviation, not the difference's):
@@ -64,8 +67,9 @@ struct LightmapBakeOptions {
   double time_budget_s = 0.0;
 
   // Keys: basis, content, spp (1..1<<20), max_bounces (0..1024), dilate (0..64), seed,
-  // denoise (bool, default true), denoise_strength (0.1..100), stitch (bool, default true). Throws
-  // Error for out-of-range values or unknown names.
+  // denoise (bool, default true), denoise_strength (0.1..100), stitch (bool, default true),
+  // stitch_coplanar (bool, default true). Throws Error for out-of-range values or unknown
+  // names.
   static LightmapBakeOptions from_params(const Params& params);
 };
 
@@ -84,6 +88,7 @@ struct LightmapBake {
   double denoise_seconds = 0.0;  // part of `seconds`
   double stitch_seconds = 0.0;   // part of `seconds`
   int64_t seam_edges = 0;        // seam edges stitched (0 without stitching)
+  int64_t coplanar_edges = 0;    // coplanar edge pairs joined (lightmap_coplanar.h)
   double seconds = 0.0;
   int64_t rays = 0;
   size_t texels = 0;  // covered texels baked

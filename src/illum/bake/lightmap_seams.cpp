@@ -1,5 +1,7 @@
 #include "illum/bake/lightmap_seams.h"
 
+#include "illum/bake/lightmap_coplanar.h"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -72,7 +74,24 @@ struct EdgeEnd {
 struct TriangleEdge {
   EdgeEnd end[2];
   int instance;
+  vec3 world[2];      // the end points, in end[] order
+  vec3 plane_normal;  // the triangle's geometric normal (zero when degenerate)
+  vec3 inward;        // in the triangle's plane, across the edge into the triangle
 };
+
+// An open edge for find_coplanar_seams; shading normals fall back to the plane's (a mesh
+// without normals is shaded flat).
+OpenEdge open_edge(const TriangleEdge& e) {
+  OpenEdge o;
+  for (int k = 0; k < 2; ++k) {
+    o.p[k] = e.world[k];
+    o.uv[k] = e.end[k].uv;
+    o.normal[k] = e.end[k].normal == vec3(0.0f) ? e.plane_normal : e.end[k].normal;
+  }
+  o.plane_normal = e.plane_normal;
+  o.inward = e.inward;
+  return o;
+}
 
 bool key_less(const glm::i64vec3& a, const glm::i64vec3& b) {
   if (a.x != b.x) return a.x < b.x;
@@ -91,7 +110,7 @@ struct EdgeKeyHash {
 
 }  // namespace
 
-Seams find_seams(const Scene& scene, int width, int height, float tolerance) {
+Seams find_seams(const Scene& scene, int width, int height, const SeamFindOptions& options) {
   if (width < 1 || height < 1)
     throw Error(fmt::format("seams: atlas size {}x{} must be positive", width, height));
   // The scene's extent, for the default tolerance.
@@ -110,7 +129,8 @@ Seams find_seams(const Scene& scene, int width, int height, float tolerance) {
   // Split vertices of one mesh have bit-equal positions; neighbours in other meshes come
   // through their own transforms, hence a tolerance well above float rounding of the
   // coordinates (1e-7 relative) and far below any modelled feature.
-  const float tol = tolerance > 0.0f ? tolerance : 1e-6f * std::max(glm::length(hi - lo), 1e-6f);
+  const float tol =
+      options.tolerance > 0.0f ? options.tolerance : 1e-6f * std::max(glm::length(hi - lo), 1e-6f);
   const vec2 size{float(width), float(height)};
   const auto quantise = [&](const vec3& p) {
     return glm::i64vec3(std::llround(double(p.x) / tol), std::llround(double(p.y) / tol),
@@ -125,19 +145,33 @@ Seams find_seams(const Scene& scene, int width, int height, float tolerance) {
     const mat3 normal_matrix = glm::transpose(glm::inverse(mat3(inst.transform)));
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
       const uint32_t* idx = &mesh.indices[3 * t];
+      vec3 world[3];
+      for (int k = 0; k < 3; ++k)
+        world[k] = vec3(inst.transform * vec4(mesh.positions[idx[k]], 1.0f));
+      const vec3 cross = glm::cross(world[1] - world[0], world[2] - world[0]);
+      const float cross_length = glm::length(cross);
+      const vec3 plane_normal = cross_length > 0.0f ? cross / cross_length : vec3(0.0f);
       for (int k = 0; k < 3; ++k) {
         TriangleEdge e;
         e.instance = int(i);
         for (int j = 0; j < 2; ++j) {
           const uint32_t v = idx[(k + j) % 3];
-          e.end[j].key = quantise(vec3(inst.transform * vec4(mesh.positions[v], 1.0f)));
+          e.world[j] = world[(k + j) % 3];
+          e.end[j].key = quantise(e.world[j]);
           e.end[j].uv = mesh.uv1[v] * size;
           e.end[j].normal = mesh.normals.size() == mesh.positions.size()
                                 ? glm::normalize(normal_matrix * mesh.normals[v])
                                 : vec3(0.0f);
         }
         if (e.end[0].key == e.end[1].key) continue;  // degenerate at this tolerance
-        if (key_less(e.end[1].key, e.end[0].key)) std::swap(e.end[0], e.end[1]);
+        e.plane_normal = plane_normal;
+        const vec3 along = glm::normalize(e.world[1] - e.world[0]);
+        e.inward = glm::cross(plane_normal, along);  // unit: both unit and perpendicular
+        if (glm::dot(e.inward, world[(k + 2) % 3] - e.world[0]) < 0.0f) e.inward = -e.inward;
+        if (key_less(e.end[1].key, e.end[0].key)) {
+          std::swap(e.end[0], e.end[1]);
+          std::swap(e.world[0], e.world[1]);
+        }
         edges.push_back(e);
       }
     }
@@ -170,6 +204,15 @@ Seams find_seams(const Scene& scene, int width, int height, float tolerance) {
             {{glm::mix(a.end[0].uv, a.end[1].uv, u), glm::mix(b.end[0].uv, b.end[1].uv, u)}});
       }
     }
+  }
+  if (options.coplanar) {
+    // Open edges: no other edge has both their end points (chart and mesh borders; an edge
+    // shared with a crease or a seam is not open, its other side is taken).
+    std::vector<OpenEdge> open;
+    for (const TriangleEdge& e : edges)
+      if (e.plane_normal != vec3(0.0f) && by_key.at({e.end[0].key, e.end[1].key}).size() == 1)
+        open.push_back(open_edge(e));
+    seams.coplanar_pairs = find_coplanar_seams(open, tol, seams.samples);
   }
   return seams;
 }
@@ -317,6 +360,18 @@ SeamStitchStats stitch_seams(const Seams& seams, const atlas::TexelRaster& raste
       value(c, i) = static_cast<float>(x0[i * channels + c] + delta[i * channels + c]);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
+}
+
+StitchReport stitch_baked_layers(const Scene& scene, const atlas::TexelRaster& raster,
+                                 std::vector<Image>& layers, bool coplanar) {
+  const auto start = std::chrono::steady_clock::now();
+  const Seams seams = find_seams(scene, raster.width, raster.height, {.coplanar = coplanar});
+  StitchReport report;
+  report.solve = stitch_seams(seams, raster, layers);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.seam_edges = seams.edges;
+  report.coplanar_edges = seams.coplanar_pairs;
+  return report;
 }
 
 float texel_world_size(const Scene& scene, const atlas::TexelRaster& raster,

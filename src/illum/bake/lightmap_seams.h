@@ -1,8 +1,10 @@
 // Seams and leaks of light-maps (issue 12 part 4; S000 §2.7.1, S002 §3.3.6):
 //   keep_texels_out_of_geometry  texel sample points never inside or behind geometry (run
 //                                once on the raster, before any baker reads it);
+//   find_seams                   chart edges to join: same end points, or coplanar
+//                                neighbours meeting in part (lightmap_coplanar.h);
 //   stitch_seams                 least-squares agreement of the bilinear lookups on both
-//                                sides of every chart edge (run on the baked layers).
+//                                sides of every such edge (run on the baked layers).
 // docs/lightmaps.md (Seams and leaks) shows what each does and the commands.
 #pragma once
 
@@ -45,9 +47,12 @@ struct SeamSample {
 };
 
 struct Seams {
-  int64_t edges = 0;                // seam edges (pairs of triangle edges) found
-  int64_t within_instance = 0;      // of which both sides belong to one instance
-  std::vector<SeamSample> samples;  // kSeamSamplesPerTexel per texel of edge length, ≥ 2
+  int64_t edges = 0;            // seam edges (pairs of triangle edges with the same ends)
+  int64_t within_instance = 0;  // of which both sides belong to one instance
+  int64_t coplanar_pairs = 0;   // pairs of coplanar open edges joined along their overlap
+  // kSeamSamplesPerTexel per texel of edge (or overlap) length, ≥ 2 per edge; the seams
+  // with the same ends first, then the coplanar pairs'.
+  std::vector<SeamSample> samples;
 };
 
 // Samples per texel of seam length: ≥ 2 so the piecewise-bilinear lookup along an edge is
@@ -59,13 +64,20 @@ inline constexpr int kSeamSamplesPerTexel = 3;
 // would leak it.
 inline constexpr float kSeamNormalCos = 0.99f;
 
+struct SeamFindOptions {
+  float tolerance = 0.0f;  // end points this close are one; 0: 1e-6 of the scene's extent
+  // Also join coplanar neighbours meeting in part (T-junctions, near neighbours): the open
+  // edges (no other edge shares both end points) go to find_coplanar_seams.
+  bool coplanar = true;
+};
+
 // Finds every seam edge of the light-mapped instances of `scene` (uv1 applied, the atlas
-// `width` × `height`): two triangle edges with the same world end points (within
-// `tolerance`, default 1e-6 of the scene's extent), within one instance or between two,
-// whose uv1 differ at either end by more than 1e-3 texel, and whose shading normals agree
-// (kSeamNormalCos) at both ends. Edges meeting only in part (T-junctions) are not matched.
-// Deterministic (triangle order).
-Seams find_seams(const Scene& scene, int width, int height, float tolerance = 0.0f);
+// `width` × `height`): two triangle edges with the same world end points (within the
+// tolerance), within one instance or between two, whose uv1 differ at either end by more
+// than 1e-3 texel, and whose shading normals agree (kSeamNormalCos) at both ends. With
+// `options.coplanar`, then the pairs of open edges that lie in one plane and overlap in
+// part (lightmap_coplanar.h). Deterministic (triangle order).
+Seams find_seams(const Scene& scene, int width, int height, const SeamFindOptions& options = {});
 
 // The renderer's bilinear lookup of an RGB layer at texel coordinates (centres at +0.5,
 // clamped at the border, as the sampler's clamp-to-edge).
@@ -99,6 +111,17 @@ struct SeamStitchStats {
 // Throws Error for layers not of the raster's size.
 SeamStitchStats stitch_seams(const Seams& seams, const atlas::TexelRaster& raster,
                              std::vector<Image>& layers, const SeamStitchOptions& options = {});
+
+// What a baker runs after dilation: find_seams (coplanar neighbours when `coplanar`) and
+// stitch_seams on `layers`, timed from the start of the search.
+struct StitchReport {
+  int64_t seam_edges = 0;
+  int64_t coplanar_edges = 0;  // Seams::coplanar_pairs
+  SeamStitchStats solve;
+  double seconds = 0.0;  // finding and solving
+};
+StitchReport stitch_baked_layers(const Scene& scene, const atlas::TexelRaster& raster,
+                                 std::vector<Image>& layers, bool coplanar);
 
 // World size of one texel at a sample (metres per texel along the stretchiest uv1
 // direction of its triangle).

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_shooting.h"
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
@@ -251,6 +252,9 @@ PrtBakeOptions PrtBakeOptions::from_params(const Params& params) {
       double(params.get_float_in("shoot_tolerance", float(o.shoot_tolerance), 1e-6f, 1.0f));
   o.max_rounds = params.get_int_in("max_rounds", o.max_rounds, 0, kMaxRounds);
   o.dilate = params.get_int_in("dilate", o.dilate, 0, kMaxDilate);
+  // As the light-map bakers: off in the struct (the raw transfer), on through files and CLI.
+  o.stitch = params.get<bool>("stitch", true);
+  o.stitch_coplanar = params.get<bool>("stitch_coplanar", o.stitch_coplanar);
   o.seed = params.get_seed("seed", o.seed);
   return o;
 }
@@ -385,16 +389,40 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
     }
     bake.texel_transfer = TransferMap(raster.width, raster.height, payload);
     // Dilated one coefficient (an RGB image) at a time: core Images hold up to 4 channels.
+    std::vector<Image> layers;
     for (int i = 0; i < count; ++i) {
       Image layer(raster.width, raster.height, 3);
       for (size_t k = 0; k < points.size(); ++k)
         std::copy_n(&transfer[k * size_t(payload) + size_t(i) * 3], 3,
                     layer.pixel(raster.samples[k].x, raster.samples[k].y));
       atlas::dilate(layer, raster, options.dilate);
+      layers.push_back(std::move(layer));
+    }
+    if (options.stitch) {
+      // The light-map's seam stitching, per coefficient: E/π = Σ T_i L_i is linear in T, so
+      // T's lookups agreeing on both sides of a seam makes the relit light-map's agree for
+      // every lighting. The same matrix for every coefficient; solved a few coefficients at
+      // a time, which gives the same result (each channel has its own CG) in less memory.
+      const auto t0 = std::chrono::steady_clock::now();
+      const Seams seams =
+          find_seams(scene, raster.width, raster.height, {.coplanar = options.stitch_coplanar});
+      constexpr int kCoefficientsPerSolve = 8;
+      for (int first = 0; first < count; first += kCoefficientsPerSolve) {
+        const int last = std::min(count, first + kCoefficientsPerSolve);
+        std::vector<Image> some(std::make_move_iterator(layers.begin() + first),
+                                std::make_move_iterator(layers.begin() + last));
+        stitch_seams(seams, raster, some);
+        std::move(some.begin(), some.end(), layers.begin() + first);
+      }
+      bake.seam_edges = seams.edges;
+      bake.coplanar_edges = seams.coplanar_pairs;
+      bake.stitch_seconds = seconds_since(t0);
+    }
+    for (int i = 0; i < count; ++i)
       for (int y = 0; y < raster.height; ++y)
         for (int x = 0; x < raster.width; ++x)
-          std::copy_n(layer.pixel(x, y), 3, bake.texel_transfer.pixel(x, y) + size_t(i) * 3);
-    }
+          std::copy_n(layers[size_t(i)].pixel(x, y), 3,
+                      bake.texel_transfer.pixel(x, y) + size_t(i) * 3);
     bake.texels = points.size();
   }
 

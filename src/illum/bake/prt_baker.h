@@ -47,6 +47,12 @@ struct PrtBakeOptions {
   double shoot_tolerance = 1e-3;
   int max_rounds = 64;
   int dilate = 4;  // border passes of atlas::dilate on every coefficient map
+  // Seam stitching of the SHL-map after dilation, each coefficient as a light-map layer
+  // (lightmap_seams.h), and with it coplanar neighbours (lightmap_coplanar.h). Off here, so
+  // a caller that fills this struct gets the baked transfer as it is; from_params turns it
+  // on (keys stitch, stitch_coplanar).
+  bool stitch = false;
+  bool stitch_coplanar = true;
   uint64_t seed = 0;
   bool texels = true;    // bake the SHL-map (per covered texel of the raster)
   bool vertices = true;  // bake per vertex of every instance
@@ -54,7 +60,8 @@ struct PrtBakeOptions {
   bool progress = true;
 
   // Keys: bands (2..8), mode, spp (1..2²⁰), shoot_tolerance (1e-6..1), max_rounds
-  // (0..10000), dilate (0..64), seed. Throws Error for out-of-range values or unknown names.
+  // (0..10000), dilate (0..64), stitch and stitch_coplanar (bool, default true), seed. Throws Error
+  // for out-of-range values or unknown names.
   static PrtBakeOptions from_params(const Params& params);
   void validate() const;  // the same ranges; throws Error
 };
@@ -86,6 +93,9 @@ struct PrtBake {
   std::vector<std::vector<float>> vertex_transfer;
   double seconds = 0.0;
   double shoot_seconds = 0.0;    // part of seconds
+  double stitch_seconds = 0.0;   // part of seconds: finding the seams and solving
+  int64_t seam_edges = 0;        // seam edges stitched (0 without stitching)
+  int64_t coplanar_edges = 0;    // coplanar edge pairs joined
   int shoot_rounds = 0;          // texel and vertex shooting together
   double unshot_fraction = 0.0;  // the larger of the two sets' unshot / direct at the end
   int64_t rays = 0;

@@ -223,6 +223,7 @@ RadiosityBakeOptions RadiosityBakeOptions::from_params(const Params& params) {
   o.reach_rays = params.get<int>("reach_rays", o.reach_rays);
   o.dilate = params.get<int>("dilate", o.dilate);
   o.stitch = params.get<bool>("stitch", true);
+  o.stitch_coplanar = params.get<bool>("stitch_coplanar", o.stitch_coplanar);
   o.seed = params.get_seed("seed", o.seed);
   validate(o);
   return o;
@@ -441,12 +442,11 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     bake.layers.push_back(std::move(image));
   }
   if (options.stitch) {
-    const auto stitch_start = std::chrono::steady_clock::now();
-    const Seams seams = find_seams(scene, raster.width, raster.height);
-    stitch_seams(seams, raster, bake.layers);
-    bake.stitch_seconds =  // finding the seams and solving
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - stitch_start).count();
-    bake.seam_edges = seams.edges;
+    const StitchReport stitched =
+        stitch_baked_layers(scene, raster, bake.layers, options.stitch_coplanar);
+    bake.stitch_seconds = stitched.seconds;
+    bake.seam_edges = stitched.seam_edges;
+    bake.coplanar_edges = stitched.coplanar_edges;
   }
   if (options.basis == LightmapBasis::kDominant) bake.layers = dominant_from_sh(bake.layers);
   bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -49,13 +49,16 @@ struct RadiosityBakeOptions {
   // dominant: the SH-L1 sums it is made from). Off here, so a caller that fills this struct
   // gets the shot values as they are; from_params turns it on (key stitch).
   bool stitch = false;
+  // With stitch: also join coplanar neighbours meeting in part (lightmap_coplanar.h).
+  bool stitch_coplanar = true;
   uint64_t seed = 0;
   double time_budget_s = 0.0;  // 0: none; else stop shooting after it (the map is kept)
   int threads = 0;             // 0 = all cores
   bool progress = true;
 
   // Keys: basis, content, threshold, samples_per_surface (1..1000), group_size (1..15),
-  // sky_rays, reach_rays (0..65536), dilate (0..64), stitch (bool, default true), seed.
+  // sky_rays, reach_rays (0..65536), dilate (0..64), stitch (bool, default true), stitch_coplanar
+  // (bool, default true), seed.
   // Throws Error on values out of
   // range (NaN included) or unknown names.
   static RadiosityBakeOptions from_params(const Params& params);
@@ -69,6 +72,7 @@ struct RadiosityBake {
   double seconds = 0.0;
   double stitch_seconds = 0.0;  // part of `seconds`
   int64_t seam_edges = 0;       // seam edges stitched (0 without stitching)
+  int64_t coplanar_edges = 0;   // coplanar edge pairs joined (lightmap_coplanar.h)
   int64_t shots = 0;
   int64_t rays = 0;
   size_t texels = 0;
