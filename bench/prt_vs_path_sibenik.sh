@@ -32,7 +32,7 @@ case $size in
   full)  # ~6–8 min wall on 16 cores (docs/prt.md gives the measured estimate)
     sizes=(--resolution 1024 --bake-spp 128 --width 96 --height 64 --path-spp 4096) ;;
   small)
-    sizes=(--resolution 128 --bake-spp 16 --width 48 --height 32 --path-spp 64) ;;
+    sizes=(--resolution 512 --bake-spp 8 --width 48 --height 32 --path-spp 32) ;;
   *) echo "$0: size '$size' is neither full nor small" >&2; exit 2 ;;
 esac
 mkdir -p "$out"
@@ -44,5 +44,5 @@ cmd=("$bench" prt-vs-path --scene sibenik
 printf '%q ' "${cmd[@]}" > "$out/command.txt"
 echo >> "$out/command.txt"
 start=$(date +%s)
-"${cmd[@]}" 2> "$out/log.txt" | tee "$out/sibenik.txt"
+"${cmd[@]}" 2> >(tee "$out/log.txt" >&2) | tee "$out/sibenik.txt"
 echo "wall $(( $(date +%s) - start )) s, threads ${THREADS:-all} of $(nproc)" | tee -a "$out/log.txt"

@@ -243,20 +243,5 @@ TEST(PrtNormalMap, CheckerOfTwoTiltsBakesTheMeanOfTheirTransfers) {
               worst, spread);
 }
 
-TEST(PrtNormalMap, RefusesSampleCountsOutOfRange) {
-  const auto error = [](const nlohmann::json& j) -> std::string {
-    try {
-      PrtBakeOptions::from_params(Params(j, "opts"));
-    } catch (const Error& e) {
-      return e.what();
-    }
-    return "";
-  };
-  EXPECT_NE(error({{"normal_map_samples", 0}}).find("normal_map_samples"), std::string::npos);
-  EXPECT_NE(error({{"normal_map_samples", 5000}}).find("normal_map_samples"), std::string::npos);
-  EXPECT_NE(error({{"normal_maps", 3}}).find("normal_maps"), std::string::npos);
-  EXPECT_EQ(error({{"normal_maps", false}, {"normal_map_samples", 64}}), "");
-}
-
 }  // namespace
 }  // namespace illum
