@@ -16,9 +16,10 @@
 #
 # The suns: Sibenik is closed but for its windows and door, and the scene's own sun
 # (0.354,−0.866,−0.354) lights 0.4 % of the camera's view directly. A scan of 144 directions
-# (elevation 15–85°, every 20° of azimuth; direct light only, 96×64 from the scene camera)
-# found these two the best at 3.8 % and 3.3 %: A, 45° high, across the nave through the south
-# windows; B, 15° high, along the nave through the west front. Both travel along −y (down).
+# (bench/sibenik_sun_scan.py: elevation 15–85°, every 20° of azimuth; direct light only,
+# 96×64 from the scene camera)
+# found these two the best at 3.8 % and 3.3 %: A, 45° high, from +z across the nave through
+# that wall's windows; B, 15° high, from +x along the nave through the entrance front. Both travel along −y (down).
 set -euo pipefail
 if [ $# -lt 2 ]; then
   echo "usage: $0 BENCH OUTDIR [small]" >&2
