@@ -11,8 +11,11 @@
 # Writes into OUTDIR: prt_vs_path_sibenik.png (the grid: a row per light — relit, path tracer
 # under the band-limited light, path tracer under the true light, |relit − path| × 4),
 # sibenik.json (every figure), sibenik.txt (the printed summary), log.txt (with the wall
-# time) and command.txt. `small` is the smoke test: same lights, tiny sizes (about 2 min on
-# two cores). THREADS (default: all cores) sets the worker count.
+# time) and command.txt. `small` is the smoke test: same lights, tiny sizes (6 s on two
+# cores). THREADS (default: all cores) sets the worker count; RESOLUTION,
+# BAKE_SPP, WIDTH, HEIGHT and PATH_SPP override the full run's sizes (1024, 128, 192, 128,
+# 1024). Path-tracing time grows as WIDTH·HEIGHT·PATH_SPP (15 images: 5 a light), the bake
+# as RESOLUTION²·BAKE_SPP (two bakes).
 #
 # The suns: Sibenik is closed but for its windows and door, and the scene's own sun
 # (0.354,−0.866,−0.354) lights 0.4 % of the camera's view directly. A scan of 144 directions
@@ -30,8 +33,9 @@ bench=$1 out=$2 size=${3:-full}
 env_map=../shared/scenes/envmaps/venice_sunset_1k.hdr
 [ -f "$env_map" ] || { echo "$0: $env_map not found (run from the repository root)" >&2; exit 2; }
 case $size in
-  full)  # ~6–8 min wall on 16 cores (docs/prt.md gives the measured estimate)
-    sizes=(--resolution 1024 --bake-spp 128 --width 96 --height 64 --path-spp 4096) ;;
+  full)  # estimated 3–6 min wall on 16 cores (docs/prt.md: from the small run's rates)
+    sizes=(--resolution "${RESOLUTION:-1024}" --bake-spp "${BAKE_SPP:-128}"
+      --width "${WIDTH:-192}" --height "${HEIGHT:-128}" --path-spp "${PATH_SPP:-1024}") ;;
   small)
     sizes=(--resolution 512 --bake-spp 8 --width 48 --height 32 --path-spp 32) ;;
   *) echo "$0: size '$size' is neither full nor small" >&2; exit 2 ;;
