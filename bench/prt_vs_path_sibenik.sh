@@ -22,7 +22,8 @@
 # (bench/sibenik_sun_scan.py: elevation 15–85°, every 20° of azimuth; direct light only,
 # 96×64 from the scene camera)
 # found these two the best at 3.8 % and 3.3 %: A, 45° high, from +z across the nave through
-# that wall's windows; B, 15° high, from +x along the nave through the entrance front. Both travel along −y (down).
+# that wall's windows; B, 15° high, from +x along the nave through the entrance front.
+# Both travel along −y (down).
 set -euo pipefail
 if [ $# -lt 2 ]; then
   echo "usage: $0 BENCH OUTDIR [small]" >&2
