@@ -34,7 +34,7 @@ bench=$1 out=$2 size=${3:-full}
 env_map=../shared/scenes/envmaps/venice_sunset_1k.hdr
 [ -f "$env_map" ] || { echo "$0: $env_map not found (run from the repository root)" >&2; exit 2; }
 case $size in
-  full)  # estimated 3–6 min wall on 16 cores (docs/prt.md: from the small run's rates)
+  full)  # estimated 3–5 min wall on 16 cores (docs/prt.md: from 2-thread calibration runs)
     sizes=(--resolution "${RESOLUTION:-1024}" --bake-spp "${BAKE_SPP:-128}"
       --width "${WIDTH:-192}" --height "${HEIGHT:-128}" --path-spp "${PATH_SPP:-1024}") ;;
   small)
