@@ -177,6 +177,8 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"stitch_seconds", baked.stitch_seconds},
               {"shoot_tolerance", options.shoot_tolerance},
               {"max_rounds", options.max_rounds},
+              {"normal_maps", options.normal_maps},
+              {"normal_map_samples", options.normal_map_samples},
               {"shoot_rounds", baked.shoot_rounds},
               {"unshot_fraction", baked.unshot_fraction},
               {"texels", baked.texels},

@@ -275,6 +275,10 @@ TEST(PrtBaker, RefusesOptionsOutOfRange) {
   EXPECT_NE(error({{"mode", "nonsense"}}).find("nonsense"), std::string::npos);
   EXPECT_NE(error({{"spp", 0}}).find("spp"), std::string::npos);
   EXPECT_EQ(error({{"bands", 8}, {"mode", "interreflected"}}), "");
+  EXPECT_NE(error({{"normal_map_samples", 0}}).find("normal_map_samples"), std::string::npos);
+  EXPECT_NE(error({{"normal_map_samples", 5000}}).find("normal_map_samples"), std::string::npos);
+  EXPECT_NE(error({{"normal_maps", 3}}).find("normal_maps"), std::string::npos);
+  EXPECT_EQ(error({{"normal_maps", false}, {"normal_map_samples", 64}}), "");
   EXPECT_THROW(bake::sun_light(4, vec3(0.0f), Color(1.0f)), Error);
   EXPECT_THROW(bake::sun_light(4, vec3(NAN, 1.0f, 0.0f), Color(1.0f)), Error);
   Environment dark;

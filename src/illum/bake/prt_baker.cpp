@@ -4,8 +4,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 
 #include "illum/bake/lightmap_seams.h"
+#include "illum/bake/prt_normal_map.h"
 #include "illum/bake/prt_shooting.h"
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
@@ -24,9 +26,15 @@ namespace {
 constexpr int kMaxSpp = 1 << 20;
 constexpr int kMaxDilate = 64;
 constexpr int kMaxRounds = 10000;
+constexpr int kMaxNormalMapSamples = 4096;
+// A point whose normal-map samples all lie within this of its normal (cos, ~0.08°) is baked
+// as without a map: the surface test is then empty and the closed form exact.
+constexpr float kFlatNormalCos = 1.0f - 1e-6f;
 // Seeds of the two point sets differ in their first word, so a vertex and a texel with the
 // same numbers never share a sequence.
 constexpr uint64_t kVertexStream = 0x7665727465780000ull;
+// Folded into a point's second word for the scramble of its normal-map footprint points.
+constexpr uint64_t kNormalMapStream = 0x6e6f726d616c0000ull;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -143,11 +151,55 @@ std::vector<float> texel_areas(const Scene& scene, const atlas::TexelRaster& ras
   return {area.begin(), area.end()};
 }
 
+// The direct transfer of a normal-mapped point into sum: the mean over its K perturbed
+// normals n′_k of (1/π)∫ V max(n′_k·ω, 0) [n·ω > 0] [n_g·ω > 0] Y_i(ω) dω. The spp rays go in
+// K consecutive blocks (block k: cosine-distributed about n′_k), so each block is a run of
+// the Sobol' sequence (a net when spp/K is a power of 2) rather than every K-th point, which
+// would put each normal's rays in one stratum; a block's rays weigh 1/(K·its size), so the
+// normals count alike whether or not K divides spp. Returns the rays traced.
+int64_t perturbed_transfer(const RayTracer& tracer, const BakePoint& pt,
+                           std::span<const vec3> normals, const PrtBakeOptions& options,
+                           std::vector<float>& y, std::vector<double>& sum) {
+  const int count = int(y.size());
+  const int64_t spp = options.spp;
+  const int64_t blocks = std::min<int64_t>(int64_t(normals.size()), spp);
+  const bool trace = options.mode != PrtMode::kUnshadowed;
+  SobolSampler sampler(hash_mix(options.seed, pt.stream_a, pt.stream_b));
+  std::fill(sum.begin(), sum.end(), 0.0);
+  int64_t traced = 0;
+  for (int64_t block = 0; block < blocks; ++block) {
+    const int64_t first = (block * spp + blocks - 1) / blocks;
+    const int64_t last = ((block + 1) * spp + blocks - 1) / blocks;
+    const double weight = 1.0 / double(blocks * (last - first));
+    const Frame frame = Frame::from_normal(normals[size_t(block)]);
+    for (int64_t r = first; r < last; ++r) {
+      if ((r & 1023) == 1023 && interrupt_requested()) break;
+      sampler.start_sample(uint32_t(r));
+      const vec3 dir = frame.to_world(sample_cosine_hemisphere(sampler.next_2d()));
+      // Below the surface: the large-scale normal and the geometric one (S002 §5.7).
+      if (glm::dot(dir, pt.normal) <= 0.0f || glm::dot(dir, pt.geometric_normal) <= 0.0f) continue;
+      if (trace) {
+        ++traced;
+        const Ray ray{offset_ray_origin(pt.position, pt.geometric_normal, dir), dir, 0.0f, kInf};
+        if (tracer.occluded(ray)) continue;
+      }
+      sh::evaluate<float>(options.bands, dir, y);
+      for (int i = 0; i < count; ++i) sum[size_t(i)] += weight * double(y[size_t(i)]);
+    }
+  }
+  return traced;
+}
+
+// The perturbed normals of point k (prt_normal_map.h) into `normals`; left empty for a
+// point without a normal map.
+using NormalSamples = std::function<void(size_t point, std::vector<vec3>& normals)>;
+
 // Direct transfer of every point into out ([point][i][rgb], grey): unshadowed in closed
-// form, shadowed by cosine-distributed visibility rays.
+// form, shadowed by cosine-distributed visibility rays; a normal-mapped point by rays
+// about each of its perturbed normals in turn (traced unless unshadowed).
 void bake_direct(const RayTracer& tracer, std::span<const BakePoint> points,
-                 const PrtBakeOptions& options, const char* label, std::vector<float>& out,
-                 std::atomic<int64_t>& rays) {
+                 const NormalSamples& normal_samples, const PrtBakeOptions& options,
+                 const char* label, std::vector<float>& out, std::atomic<int64_t>& rays) {
   const int count = sh::coefficient_count(options.bands);
   const size_t p = size_t(count) * 3;
   out.assign(points.size() * p, 0.0f);
@@ -159,11 +211,23 @@ void bake_direct(const RayTracer& tracer, std::span<const BakePoint> points,
       [&](int64_t begin, int64_t end) {
         std::vector<float> y(static_cast<size_t>(count));
         std::vector<double> sum(static_cast<size_t>(count));
+        std::vector<vec3> normals;
         int64_t traced = 0;
         for (int64_t k = begin; k < end; ++k) {
           if (interrupt_requested()) break;
           const BakePoint& pt = points[size_t(k)];
           float* t = &out[size_t(k) * p];
+          normals.clear();
+          if (normal_samples) normal_samples(size_t(k), normals);
+          if (std::all_of(normals.begin(), normals.end(),
+                          [&](const vec3& m) { return glm::dot(m, pt.normal) >= kFlatNormalCos; }))
+            normals.clear();
+          if (!normals.empty()) {
+            traced += perturbed_transfer(tracer, pt, normals, options, y, sum);
+            for (int i = 0; i < count; ++i)
+              for (int ch = 0; ch < 3; ++ch) t[i * 3 + ch] = float(sum[size_t(i)]);
+            continue;
+          }
           if (options.mode == PrtMode::kUnshadowed) {
             // (1/π) Λ_l Y_lm(n): the clamped cosine turned towards n (Funk–Hecke).
             const std::vector<double> c =
@@ -235,6 +299,9 @@ void PrtBakeOptions::validate() const {
         fmt::format("PRT bake: max_rounds = {} must lie in [0, {}]", max_rounds, kMaxRounds));
   if (dilate < 0 || dilate > kMaxDilate)
     throw Error(fmt::format("PRT bake: dilate = {} must lie in [0, {}]", dilate, kMaxDilate));
+  if (normal_map_samples < 1 || normal_map_samples > kMaxNormalMapSamples)
+    throw Error(fmt::format("PRT bake: normal_map_samples = {} must lie in [1, {}]",
+                            normal_map_samples, kMaxNormalMapSamples));
   if (threads < 0) throw Error(fmt::format("PRT bake: threads = {} must be ≥ 0", threads));
 }
 
@@ -256,6 +323,9 @@ PrtBakeOptions PrtBakeOptions::from_params(const Params& params) {
   o.stitch = params.get<bool>("stitch", true);
   o.stitch_coplanar = params.get<bool>("stitch_coplanar", o.stitch_coplanar);
   o.seed = params.get_seed("seed", o.seed);
+  o.normal_maps = params.get<bool>("normal_maps", o.normal_maps);
+  o.normal_map_samples =
+      params.get_int_in("normal_map_samples", o.normal_map_samples, 1, kMaxNormalMapSamples);
   return o;
 }
 
@@ -375,8 +445,16 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
       const atlas::TexelSample& s = raster.samples[k];
       points[k] = {s.position, s.normal, s.geometric_normal, uint64_t(s.x), uint64_t(s.y)};
     }
+    NormalSamples texel_normals;
+    if (options.normal_maps)
+      texel_normals = [&](size_t k, std::vector<vec3>& normals) {
+        texel_normal_samples(
+            scene, raster, raster.samples[k], options.normal_map_samples,
+            hash_mix(options.seed, points[k].stream_a, points[k].stream_b ^ kNormalMapStream),
+            normals);
+      };
     std::vector<float> transfer;
-    bake_direct(tracer, points, options, "prt texels", transfer, rays);
+    bake_direct(tracer, points, texel_normals, options, "prt texels", transfer, rays);
     if (bounce) {
       const auto t0 = std::chrono::steady_clock::now();
       const PrtPatches set = texel_patches(scene, raster);
@@ -432,7 +510,13 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
     for (size_t i = 0; i < scene.instances.size(); ++i)
       base[i + 1] = base[i] + scene.meshes[size_t(scene.instances[i].mesh)].vertex_count();
     std::vector<BakePoint> points(base.back());
+    std::vector<int> point_instance(base.back());
+    std::vector<VertexRing> rings(options.normal_maps ? scene.instances.size() : 0);
     for (size_t i = 0; i < scene.instances.size(); ++i) {
+      std::fill(point_instance.begin() + std::ptrdiff_t(base[i]),
+                point_instance.begin() + std::ptrdiff_t(base[i + 1]), int(i));
+      if (options.normal_maps)
+        rings[i] = vertex_ring(scene.meshes[size_t(scene.instances[i].mesh)]);
       const Instance& inst = scene.instances[i];
       const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
       const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(inst.transform)));
@@ -442,8 +526,18 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
         points[base[i] + v] = {origin[v], n, n, kVertexStream ^ i, v};
       }
     }
+    NormalSamples vertex_normals;
+    if (options.normal_maps)
+      vertex_normals = [&](size_t k, std::vector<vec3>& normals) {
+        const int i = point_instance[k];
+        vertex_normal_samples(
+            scene, i, uint32_t(k - base[size_t(i)]), points[k].normal, rings[size_t(i)],
+            options.normal_map_samples,
+            hash_mix(options.seed, points[k].stream_a, points[k].stream_b ^ kNormalMapStream),
+            normals);
+      };
     std::vector<float> transfer;
-    bake_direct(tracer, points, options, "prt vertices", transfer, rays);
+    bake_direct(tracer, points, vertex_normals, options, "prt vertices", transfer, rays);
     if (bounce) {
       const auto t0 = std::chrono::steady_clock::now();
       const PrtPatches set = vertex_patches(scene);

@@ -15,7 +15,10 @@
 //   interreflected  shadowed + the light bounced between surfaces, by progressive shooting
 //                   of SH vectors (prt_shooting.h, S002 §5.4.3)
 // n is the interpolated (shading) normal; directions below the geometric surface count
-// zero, as in the light-map baker.
+// zero, as in the light-map baker. On a normal-mapped material n is the map's perturbed
+// normal, averaged over the point's footprint, and directions below the interpolated
+// normal count zero too (prt_normal_map.h); unshadowed is then estimated with `spp`
+// untraced rays, the same estimator as shadowed without the visibility test.
 #pragma once
 
 #include <cstdint>
@@ -56,12 +59,18 @@ struct PrtBakeOptions {
   uint64_t seed = 0;
   bool texels = true;    // bake the SHL-map (per covered texel of the raster)
   bool vertices = true;  // bake per vertex of every instance
+  // Normal maps (prt_normal_map.h): a point whose material has one gets the mean transfer
+  // of `normal_map_samples` perturbed normals read across its footprint; false bakes every
+  // point about its interpolated normal, as if no material had a map.
+  bool normal_maps = true;
+  int normal_map_samples = 16;
   int threads = 0;
   bool progress = true;
 
   // Keys: bands (2..8), mode, spp (1..2²⁰), shoot_tolerance (1e-6..1), max_rounds
-  // (0..10000), dilate (0..64), stitch and stitch_coplanar (bool, default true), seed. Throws Error
-  // for out-of-range values or unknown names.
+  // (0..10000), dilate (0..64), stitch and stitch_coplanar (bool, default true), seed,
+  // normal_maps (bool), normal_map_samples (1..4096). Throws Error for out-of-range values or
+  // unknown names.
   static PrtBakeOptions from_params(const Params& params);
   void validate() const;  // the same ranges; throws Error
 };

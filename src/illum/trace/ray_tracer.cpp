@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "illum/core/error.h"
+#include "illum/scene/normal_map.h"
 
 namespace illum {
 
@@ -400,25 +401,16 @@ SurfaceInteraction RayTracer::interaction(const Ray& ray, const Hit& hit) const 
   }
   if (has_tangent) has_tangent = orthogonalize(ns, &tangent);
 
-  // Normal mapping (glTF convention: linear texel in [0,1] → [−1,1], xy scaled by
-  // normal_scale, +y along the bitangent, the direction of increasing v).
+  // Normal mapping (scene/normal_map.h: the glTF convention).
   if (has_tangent && has_uv0 && si.material >= 0 &&
       static_cast<size_t>(si.material) < scene_.materials.size()) {
     const Material& material = scene_.materials[static_cast<size_t>(si.material)];
-    const int tex = material.normal_texture;
-    if (tex >= 0 && static_cast<size_t>(tex) < scene_.textures.size() &&
-        !scene_.textures[static_cast<size_t>(tex)].image.empty() && orthogonalize(ns, &bitangent)) {
-      const Color c = scene_.textures[static_cast<size_t>(tex)].image.sample_bilinear(uv0.x, uv0.y);
-      vec3 m = 2.0f * vec3(c) - 1.0f;
-      m.x *= material.normal_scale;
-      m.y *= material.normal_scale;
-      const vec3 mapped = m.x * tangent + m.y * bitangent + m.z * ns;
-      const float len = glm::length(mapped);
-      if (len > 0.0f && std::isfinite(len)) {
-        ns = mapped / len;
-        if (glm::dot(ns, si.ng) < 0.0f) ns = -ns;
-        has_tangent = orthogonalize(ns, &tangent);
-      }
+    const Image* map = normal_map_of(scene_, material);
+    vec3 mapped;
+    if (map && orthogonalize(ns, &bitangent) &&
+        mapped_normal(*map, material.normal_scale, uv0, tangent, bitangent, ns, &mapped)) {
+      ns = glm::dot(mapped, si.ng) < 0.0f ? -mapped : mapped;
+      has_tangent = orthogonalize(ns, &tangent);
     }
   }
 

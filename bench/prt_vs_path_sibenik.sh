@@ -1,0 +1,54 @@
+#!/bin/bash
+# Issue 11's "done when" for Sibenik: one PRT bake relit under two suns and one environment,
+# beside the path tracer (under the same band-limited light and the true light), with the
+# error figures: `illum-bench prt-vs-path` (bench/README.md, docs/prt.md "Against the path
+# tracer"). CPU only.
+#
+#   bench/prt_vs_path_sibenik.sh BENCH OUTDIR [small]
+#
+# BENCH: the illum-bench executable (e.g. build/release/bin/illum-bench); run from the
+# repository root (the environment map is ../shared/scenes/envmaps, as the scene's meshes).
+# Writes into OUTDIR: prt_vs_path_sibenik.png (the grid: a row per light — relit, path tracer
+# under the band-limited light, path tracer under the true light, |relit − path| × 4),
+# sibenik.json (every figure), sibenik.txt (the printed summary), log.txt (with the wall
+# time) and command.txt. `small` is the smoke test: same lights, tiny sizes (6 s on two
+# cores). THREADS (default: all cores) sets the worker count; RESOLUTION,
+# BAKE_SPP, WIDTH, HEIGHT and PATH_SPP override the full run's sizes (1024, 128, 192, 128,
+# 1024). Path-tracing time grows as WIDTH·HEIGHT·PATH_SPP (15 images: 5 a light), the bake
+# as RESOLUTION²·BAKE_SPP (two bakes).
+#
+# The suns: Sibenik is closed but for its windows and door, and the scene's own sun
+# (0.354,−0.866,−0.354) lights 0.4 % of the camera's view directly. A scan of 144 directions
+# (bench/sibenik_sun_scan.py: elevation 15–85°, every 20° of azimuth; direct light only,
+# 96×64 from the scene camera)
+# found these two the best at 3.8 % and 3.3 %: A, 45° high, from +z across the nave through
+# that wall's windows; B, 15° high, from +x along the nave through the entrance front.
+# Both travel along −y (down).
+set -euo pipefail
+if [ $# -lt 2 ]; then
+  echo "usage: $0 BENCH OUTDIR [small]" >&2
+  exit 2
+fi
+bench=$1 out=$2 size=${3:-full}
+[ -x "$bench" ] || { echo "$0: $bench is not an executable" >&2; exit 2; }
+env_map=../shared/scenes/envmaps/venice_sunset_1k.hdr
+[ -f "$env_map" ] || { echo "$0: $env_map not found (run from the repository root)" >&2; exit 2; }
+case $size in
+  full)  # estimated 3–5 min wall on 16 cores (docs/prt.md: from 2-thread calibration runs)
+    sizes=(--resolution "${RESOLUTION:-1024}" --bake-spp "${BAKE_SPP:-128}"
+      --width "${WIDTH:-192}" --height "${HEIGHT:-128}" --path-spp "${PATH_SPP:-1024}") ;;
+  small)
+    sizes=(--resolution 512 --bake-spp 8 --width 48 --height 32 --path-spp 32) ;;
+  *) echo "$0: size '$size' is neither full nor small" >&2; exit 2 ;;
+esac
+mkdir -p "$out"
+cmd=("$bench" prt-vs-path --scene sibenik
+  --sun=-0.123,-0.707,-0.696,10 --sun=-0.908,-0.259,0.330,10 --env "$env_map"
+  --bands 6 --mode interreflected "${sizes[@]}" --max-bounces 8
+  --threads "${THREADS:-0}" --seed 1
+  --image "$out/prt_vs_path_sibenik.png" --json "$out/sibenik.json")
+printf '%q ' "${cmd[@]}" > "$out/command.txt"
+echo >> "$out/command.txt"
+start=$(date +%s)
+"${cmd[@]}" 2> >(tee "$out/log.txt" >&2) | tee "$out/sibenik.txt"
+echo "wall $(( $(date +%s) - start )) s, threads ${THREADS:-all} of $(nproc)" | tee -a "$out/log.txt"
