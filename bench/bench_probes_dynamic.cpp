@@ -6,15 +6,18 @@
 // One probe bake of the scene's static part; the real-time frames are drawn without the
 // scene's lights, so the object shows only what the probes give it (their irradiance holds
 // direct and bounced light, as the path tracer's). Compared over the object's pixels a camera
-// ray hits (silhouette pixels, whose 8 neighbours do not all see it, left out): the relative
-// luminance error |R − P| / P per pixel (mean, median, 90th percentile) and the mean signed
-// error, for both lookups. The path tracer's own noise is in these numbers; its standard
-// error per pixel is printed too (from two half-spp runs: |a − b|/2 estimates σ of their mean).
+// ray hits (silhouette pixels, whose 8 neighbours do not all see it, left out): the luminance
+// error |R − P| per pixel relative to the mean path-traced luminance P̄ over those pixels
+// (mean, median, 90th percentile; relative to P̄, not to each pixel's P, because the side
+// facing the box's open front is nearly black and per-pixel ratios there say nothing) and the
+// signed mean (R − P)/P̄ (the bias), for both lookups. The path tracer's own noise is in these
+// numbers; its standard error per pixel is printed too (from two half-spp runs: |a − b|/2
+// estimates σ of their mean).
 //
 // With --images DIR: probes_dynamic_compare.png (crops around the object: path tracer,
 // per-pixel lookup, per-instance cube; outside the object every panel shows the path-traced
-// image darkened, for context) and probes_dynamic_error.png (the relative error as a heat map,
-// black → red → yellow → white at 50 %, per pixel and per instance).
+// image darkened, for context) and probes_dynamic_error.png (|R − P| / P̄ as a heat map,
+// black → red → yellow → white at 100 %, per pixel and per instance).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -141,7 +144,8 @@ int run_probes_dynamic(SuiteArgs args) {
   render.spp = path_spp / 2;
   render.progress = false;
   t0 = std::chrono::steady_clock::now();
-  const auto integrator = Integrator::create("path", Params({}, "probes-dynamic"));
+  const auto integrator =
+      Integrator::create("path", Params(nlohmann::json::object(), "probes-dynamic"));
   render.seed = seed;
   const Image path_a = integrator->render(tracer, *scene.camera, render);
   render.seed = seed + 1;
@@ -172,7 +176,7 @@ int run_probes_dynamic(SuiteArgs args) {
 
   Image reference(size, size, 3);
   std::vector<double> rel_pixel, rel_instance, noise;
-  double signed_pixel = 0.0, signed_instance = 0.0;
+  double signed_pixel = 0.0, signed_instance = 0.0, path_mean = 0.0;
   int x0 = size, y0 = size, x1 = -1, y1 = -1;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
@@ -181,16 +185,21 @@ int run_probes_dynamic(SuiteArgs args) {
       if (!interior(x, y)) continue;
       x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
       const double p = luminance(0.5f * (a + b));
-      if (!(p > 0.0)) continue;
-      const double rp = (luminance(per_pixel.rgb(x, y)) - p) / p;
-      const double ri = (luminance(per_instance.rgb(x, y)) - p) / p;
+      const double rp = luminance(per_pixel.rgb(x, y)) - p;
+      const double ri = luminance(per_instance.rgb(x, y)) - p;
       rel_pixel.push_back(std::abs(rp));
       rel_instance.push_back(std::abs(ri));
       signed_pixel += rp;
       signed_instance += ri;
-      noise.push_back(std::abs(luminance(a) - luminance(b)) / 2.0 / p);
+      noise.push_back(std::abs(luminance(a) - luminance(b)) / 2.0);
+      path_mean += p;
     }
   if (rel_pixel.empty()) throw Error("probes-dynamic: no pixel shows a dynamic object");
+  path_mean /= double(rel_pixel.size());
+  for (auto* v : {&rel_pixel, &rel_instance, &noise})
+    for (double& e : *v) e /= path_mean;
+  signed_pixel /= path_mean;
+  signed_instance /= path_mean;
   const ErrorStats ep = error_stats(rel_pixel, signed_pixel);
   const ErrorStats ei = error_stats(rel_instance, signed_instance);
   const ErrorStats en = error_stats(noise, 0.0);
@@ -198,12 +207,15 @@ int run_probes_dynamic(SuiteArgs args) {
               scene.name.c_str(), volume.size.x, volume.size.y, volume.size.z, double(spacing),
               static_cast<long long>(baked.stats.invalid), spp, bake_seconds, path_spp,
               path_seconds);
-  std::printf("%zu object pixels; |R - P|/P mean / median / p90, signed mean:\n", rel_pixel.size());
+  std::printf(
+      "%zu object pixels, mean path-traced luminance P = %.4g; |R - P| / P mean / median / p90, "
+      "signed mean (R - P) / P:\n",
+      rel_pixel.size(), path_mean);
   std::printf("  per pixel:    %.4f / %.4f / %.4f, %+.4f\n", ep.mean, ep.median, ep.p90,
               ep.signed_mean);
   std::printf("  per instance: %.4f / %.4f / %.4f, %+.4f\n", ei.mean, ei.median, ei.p90,
               ei.signed_mean);
-  std::printf("  path tracer's own standard error per pixel: mean %.4f, median %.4f\n", en.mean,
+  std::printf("  path tracer's own standard error per pixel / P: mean %.4f, median %.4f\n", en.mean,
               en.median);
 
   if (!images.empty()) {
@@ -237,7 +249,7 @@ int run_probes_dynamic(SuiteArgs args) {
       if (!interior(x, y)) return Color(0.0f, 0.0f, 0.08f);
       const double r = luminance(reference.rgb(x, y));
       const double e = luminance((p == 0 ? per_pixel : per_instance).rgb(x, y));
-      return r > 0.0 ? heat(std::abs(e - r) / r, 0.5) : Color(0.0f, 0.0f, 0.08f);
+      return heat(std::abs(e - r) / path_mean, 1.0);
     });
     write_image(images + "/probes_dynamic_compare.png", compare);
     ImageWriteOptions linear;
@@ -259,6 +271,7 @@ int run_probes_dynamic(SuiteArgs args) {
                            {"invalid", baked.stats.invalid},
                            {"path_spp", path_spp},
                            {"object_pixels", rel_pixel.size()},
+                           {"path_mean_luminance", path_mean},
                            {"per_pixel", stats(ep)},
                            {"per_instance", stats(ei)},
                            {"path_noise", stats(en)},
