@@ -346,6 +346,72 @@ TEST_F(ProbeVolumeTest, ValidityWeightsDropAnInvalidProbe) {
   EXPECT_GT(shown.rgb(kSize * 3 / 4, kSize / 2).g, 10.0f * expected) << "the probe is in reach";
 }
 
+// The leak guard on the CPU mirror (the GPU is held to the mirror above): the probe leak
+// test's two rooms (docs/probes.md: a closed wall 5 cm thick at x = 0, a point light at
+// x > 0, probes every 0.25 m so the cell x ∈ [−0.125, 0.125] straddles the wall). On the dark
+// side (x = −0.03 … −0.1 m) the true irradiance is 0; for surfaces facing away from the wall
+// (normal −x) the lit probes lie behind them. Validity weights alone give them a share
+// a = (x + 0.125)/0.25 ∈ [0.1, 0.38] of the lit probes' light (all probes here are valid).
+// The guard multiplies a lit probe's weight by g_b ∈ [0.2, 0.29] (from straight behind to
+// 114° off the normal, for offsets up to 0.25 m along the wall) and a dark one's by
+// g_f ∈ [0.48, 1.2]; the dark probes hold exactly 0, so the guarded leak is at most
+// 0.29 / (0.2·a + 0.48·(1 − a)) ≤ 0.66 of the validity-only leak at the same point:
+// asserted ≤ 0.7 of it over the points.
+TEST(ProbeVolumeMirror, LeakGuardCutsTheLightLeakingThroughAThinWall) {
+  Scene s;
+  s.name = "two-rooms";
+  Material m;
+  m.albedo = Color(0.5f);
+  s.materials = {m};
+  const vec3 lo(-1.0f, 0.0f, -1.0f), hi(1.0f, 2.0f, 1.0f);
+  auto at = [&](float x, float y, float z) { return lo + (hi - lo) * vec3(x, y, z); };
+  test::add_quad(s, at(0, 0, 0), at(0, 0, 1), at(1, 0, 1), at(1, 0, 0), 0);  // floor, inward
+  test::add_quad(s, at(0, 1, 0), at(1, 1, 0), at(1, 1, 1), at(0, 1, 1), 0);  // ceiling
+  test::add_quad(s, at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 1, 0), 0);  // z = −1
+  test::add_quad(s, at(0, 0, 1), at(0, 1, 1), at(1, 1, 1), at(1, 0, 1), 0);  // z = +1
+  test::add_quad(s, at(0, 0, 0), at(0, 1, 0), at(0, 1, 1), at(0, 0, 1), 0);  // x = −1
+  test::add_quad(s, at(1, 0, 0), at(1, 0, 1), at(1, 1, 1), at(1, 1, 0), 0);  // x = +1
+  // The wall: a closed block through the whole room (its open bottom below the floor).
+  test::add_block(s, vec3(0.0f, 1.0f, 0.0f), vec3(0.025f, 1.05f, 1.05f), 0.0f, 0);
+  Light light;
+  light.type = LightType::kPoint;
+  light.position = vec3(0.6f, 1.2f, 0.1f);
+  light.intensity = Color(5.0f);
+  s.lights.push_back(light);
+  const RayTracer tracer(s);
+  bake::ProbeBakeOptions options;
+  options.spacing = 0.25f;
+  options.spp = 64;
+  options.threads = 2;
+  options.progress = false;
+  bake::ProbeBake baked = bake::bake_probes(s, tracer, options);
+  ProbeVolume volume;
+  volume.size = baked.grid.size;
+  volume.origin = baked.grid.origin;
+  volume.spacing = vec3(baked.grid.spacing);
+  volume.probes = bake::probe_volume_data(baked.probes);
+  bake::ProbeSet set;
+  set.grid = baked.grid;
+  set.probes = std::move(baked.probes);
+  ASSERT_NEAR(set.grid.origin.x + 3.0f * set.grid.spacing, -0.125f, 1e-5f);  // the straddling cell
+  const vec3 away(-1.0f, 0.0f, 0.0f);
+  float validity_only = 0.0f, guarded = 0.0f, lit = 0.0f;
+  for (float x : {-0.03f, -0.06f, -0.1f})
+    for (float y : {0.3f, 0.9f, 1.3f, 1.7f})
+      for (float z : {-0.6f, -0.1f, 0.2f, 0.7f}) {
+        const vec3 p(x, y, z);
+        validity_only = std::max(validity_only, bake::lookup_irradiance(set, p, away).g);
+        guarded = std::max(guarded, probe_volume_irradiance(volume, p, away, away).irradiance.g);
+        lit = std::max(lit, bake::lookup_irradiance(set, vec3(-x, y, z), -away).g);
+      }
+  std::printf(
+      "dark side, facing away from the wall: E ≤ %.4f validity only, ≤ %.4f with the "
+      "leak guard (lit side, facing away: %.4f)\n",
+      validity_only, guarded, lit);
+  EXPECT_GT(validity_only, 0.1f * lit) << "the scene should leak without the guard";
+  EXPECT_LE(guarded, 0.7f * validity_only);
+}
+
 // Bad volumes are refused at the renderer's entry.
 TEST_F(ProbeVolumeTest, RefusesMalformedVolumes) {
   const Scene scene = facing_quad();
