@@ -42,6 +42,10 @@ std::span<const Suite> suites() {
 #ifdef ILLUM_BENCH_HAVE_GPU
       {"raster", "real-time passes (illum frame --json) beside this GPU's raster and memory bounds",
        &run_raster},
+      {"probes-dynamic",
+       "a dynamic object lit by the probe volume (per pixel, per instance) vs "
+       "the path tracer",
+       &run_probes_dynamic},
 #endif
   };
   return kSuites;

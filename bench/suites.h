@@ -48,6 +48,8 @@ int run_photon_defaults(SuiteArgs args);
 int run_converge(SuiteArgs args);
 #ifdef ILLUM_BENCH_HAVE_GPU
 int run_raster(SuiteArgs args);  // bench_raster.cpp: real-time passes beside the device's bounds
+// bench_probes_dynamic.cpp: a dynamic object lit by the probe volume vs the path tracer
+int run_probes_dynamic(SuiteArgs args);
 #endif
 
 // --- helpers shared by suites ---------------------------------------------------------------

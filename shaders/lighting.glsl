@@ -9,6 +9,7 @@
 #include "shadows.glsl"
 #include "baked.glsl"
 #include "prt.glsl"
+#include "probe_volume.glsl"
 #include "sh.glsl"
 
 // Texture sampling hooks: fragment shaders sample with the implicit LOD of their quads; a
@@ -118,10 +119,14 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
 // ambient A, directional colour C and the tangent-space direction d: A + C·max(0, n·d)
 // (bake/lightmap_basis.h; exact E/π on the baked normal, so a surface without a normal map
 // shows what the plain map shows).
-// `draw`: the draw's index (colour passes push it as push.view_index), for its ambient cube.
+// A probed (dynamic) object takes the probe volume instead: per pixel, albedo·E(n)/π
+// (probe_volume.glsl), or its ambient cube along the normal (baked.probe_lookup=instance).
+// `draw`: the draw's index (colour passes push it as push.view_index), for the probes.
 vec3 ambient_term_for(Surface s, int draw) {
   int cube = draw < baked.info.z ? draw_cubes[draw] : 0;
-  if (cube > 0) {  // a probed (dynamic) object: ambient cube along the normal
+  if (cube > 0 && baked.probe_size.w == kProbeLookupPixel)
+    return s.albedo * kShInvPi * max(probe_volume_irradiance(s.p, s.n, s.ng), 0.0);
+  if (cube > 0) {
     int base = 6 * (cube - 1);
     vec3 n2 = s.n * s.n;
     vec3 a = n2.x * ambient_cubes[base + (s.n.x >= 0.0 ? 0 : 1)].rgb +
@@ -171,7 +176,7 @@ vec3 ambient_term_for(Surface s, int draw) {
 
 // Whether ambient_term_for's value already holds the surface's own visibility: PRT transfer
 // (baked shadowed or interreflected: the visibility rays are in it), unless the draw is a
-// probed dynamic object (its ambient cube knows nothing of nearby occluders). SSAO must not
+// probed dynamic object (its probes know nothing of nearby occluders). SSAO must not
 // darken such a term again (docs/realtime.md "SSAO"). An unshadowed PRT bake is treated the
 // same: the renderer does not know the bake's mode, and unshadowed is the closed-form test mode.
 bool ambient_term_includes_visibility(int draw) {

@@ -101,12 +101,25 @@ realtime::PrtTransfer prt_transfer(const Scene& scene, bake::PrtSet set) {
   return prt;
 }
 
+// The set's grid, irradiance coefficients and validity weights as the renderer reads them
+// (realtime/probe_volume.h), for the instances `scene` marks dynamic.
+realtime::ProbeVolume probe_volume(const bake::ProbeSet& set, const Scene& scene) {
+  static_assert(realtime::kProbeFloats == bake::kProbeVolumeFloats);
+  realtime::ProbeVolume volume;
+  volume.size = set.grid.size;
+  volume.origin = set.grid.origin;
+  volume.spacing = vec3(set.grid.spacing);
+  volume.probes = bake::probe_volume_data(set.probes);
+  volume.instances = bake::dynamic_instances(scene);
+  return volume;
+}
+
 }  // namespace
 
 void BakedDisplay::show(realtime::Renderer& renderer) const {
   if (lightmap.kind != realtime::LightmapKind::kNone) renderer.set_lightmap(lightmap);
   if (!prt.empty()) renderer.set_prt(prt);
-  if (!probes.instances.empty()) renderer.set_ambient_cubes(probes);
+  if (!probes.empty()) renderer.set_probe_volume(probes);
 }
 
 BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& folders) {
@@ -137,18 +150,12 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
   // Probes first: they were baked for the scene's static part as loaded, before any atlas
   // (which changes the meshes the geometry hash covers) is put on it.
   if (const std::string* probes = given(BakedKind::kProbes)) {
-    const bake::ProbeCubeGrid grid =
-        bake::probe_cube_grid(bake::load_probe_set_for(*probes, scene), scene);
-    if (grid.instances.empty())
+    display.probes = probe_volume(bake::load_probe_set_for(*probes, scene), scene);
+    if (display.probes.empty())
       throw Error(
           fmt::format("--baked {}: probes light only meshes marked \"dynamic\": true, and "
                       "scene '{}' marks none",
                       *probes, scene.name));
-    display.probes.size = grid.size;
-    display.probes.origin = grid.origin;
-    display.probes.spacing = grid.spacing;
-    display.probes.cubes = grid.cubes;
-    display.probes.instances = grid.instances;
   }
   if (lightmap)
     display.lightmap =

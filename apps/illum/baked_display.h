@@ -3,8 +3,8 @@
 // matching display of the `baked` add-on. Kinds, told by the manifest the folder holds:
 //   lightmap.json  light-map (atlas/lightmap_file.h)  → Renderer::set_lightmap
 //   prt.json       PRT transfer (bake/prt_file.h)     → Renderer::set_prt
-//   probes.json    irradiance probes (bake/probe_file.h) → Renderer::set_ambient_cubes, for
-//                  the instances marked "dynamic": true (bake/probe_lookup.h probe_cube_grid)
+//   probes.json    irradiance probes (bake/probe_file.h) → Renderer::set_probe_volume, for
+//                  the instances marked "dynamic": true (realtime/probe_volume.h)
 // A new kind is one more entry in kBakedKinds (baked_display.cpp) with its loader, and one
 // more member here.
 #pragma once
@@ -19,12 +19,11 @@
 namespace illum::cli {
 
 struct BakedDisplay {
-  realtime::Lightmap lightmap;       // kind kNone: no light-map folder
-  realtime::PrtTransfer prt;         // empty: no PRT folder
-  realtime::AmbientCubeGrid probes;  // no instances: no probe folder
+  realtime::Lightmap lightmap;   // kind kNone: no light-map folder
+  realtime::PrtTransfer prt;     // empty: no PRT folder
+  realtime::ProbeVolume probes;  // empty: no probe folder
   bool any() const {
-    return lightmap.kind != realtime::LightmapKind::kNone || !prt.empty() ||
-           !probes.instances.empty();
+    return lightmap.kind != realtime::LightmapKind::kNone || !prt.empty() || !probes.empty();
   }
   // Hands the data to a renderer built from the prepared scene (switches `baked` on).
   void show(realtime::Renderer& renderer) const;

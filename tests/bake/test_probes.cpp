@@ -248,34 +248,6 @@ TEST(Probes, ValidityRejectsProbesInsideAClosedBox) {
     EXPECT_EQ(r.backface_fraction, in ? 1.0f : 0.0f) << p.x << "," << p.y << "," << p.z;
   }
   EXPECT_EQ(inside, 64);
-  // The renderer's grid (probe_cube_grid): valid probes keep their cube; an invalid probe on
-  // the box's surface layer takes the mean of its valid 26-neighbours.
-  Scene marked = s;
-  marked.instances[1].dynamic = true;  // the box, for the conversion's instance list
-  ProbeSet for_grid = set;  // baked with the box as geometry: identity rewritten to test the fill
-  for_grid.scene_triangles = static_part(marked).triangle_count();
-  for_grid.scene_hash = geometry_hash_hex(static_part(marked));
-  const ProbeCubeGrid cubes = probe_cube_grid(for_grid, marked);
-  EXPECT_EQ(cubes.instances, std::vector<int>{1});
-  auto index = [](int x, int y, int z) { return size_t((z * 10 + y) * 10 + x); };
-  const size_t valid = index(0, 0, 0), invalid = index(6, 5, 5);  // (0.3, 0.1, 0.1): inside
-  ASSERT_EQ(set.probes[invalid].weight, 0.0f);
-  for (int f = 0; f < 6; ++f)
-    EXPECT_EQ(cubes.cubes[valid * 6 + size_t(f)].y, set.probes[valid].cube[3 * f + 1]);
-  for (int f = 0; f < 6; ++f) {
-    double sum = 0.0;
-    int used = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const ProbeRecord& r = set.probes[index(6 + dx, 5 + dy, 5 + dz)];
-          if (r.weight == 0.0f) continue;
-          sum += r.cube[3 * f + 1];
-          ++used;
-        }
-    ASSERT_EQ(used, 9);  // the x = 0.5 layer
-    EXPECT_NEAR(cubes.cubes[invalid * 6 + size_t(f)].y, sum / used, 1e-6 * sum / used);
-  }
   // A lookup beside the box renormalises over the valid corners: it reads what the valid
   // probes hold, not a mean darkened by the invalid ones.
   const vec3 p(0.32f, 0.05f, 0.05f);  // in the cell x ∈ [0.3, 0.5]: half its corners inside
@@ -417,9 +389,6 @@ TEST_F(ProbeFolder, IsRefusedForAnotherSceneButNotForMovedDynamicObjects) {
   EXPECT_NO_THROW(load_probe_set_for(folder, scene));
   scene.instances[size_t(ball)].transform = glm::translate(mat4(1.0f), vec3(-1.0f, 0.0f, 0.0f));
   EXPECT_NO_THROW(load_probe_set_for(folder, scene));  // moved: still the same static scene
-  const ProbeCubeGrid grid = probe_cube_grid(set, scene);
-  EXPECT_EQ(grid.instances, std::vector<int>{ball});
-  EXPECT_EQ(grid.cubes.size(), size_t(set.grid.count()) * 6);
   const std::vector<InstanceCube> cubes = dynamic_instance_cubes(set, scene, &tracer);
   ASSERT_EQ(cubes.size(), 1u);
   EXPECT_GT(cubes[0].weight, 0.0f);
@@ -430,7 +399,7 @@ TEST_F(ProbeFolder, IsRefusedForAnotherSceneButNotForMovedDynamicObjects) {
   EXPECT_NE(e.find("baked for scene 'two-rooms'"), std::string::npos) << e;
   EXPECT_NE(e.find("bake it again"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);
-  EXPECT_FALSE(error_of([&] { probe_cube_grid(set, other); }).empty());
+  EXPECT_FALSE(error_of([&] { dynamic_instance_cubes(set, other); }).empty());
 }
 
 TEST(Probes, SameProbesWhateverTheThreadCount) {

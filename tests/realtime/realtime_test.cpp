@@ -880,44 +880,6 @@ TEST_F(RealtimeTest, LightmapsPlainRnmAndShL1) {
 namespace illum::realtime {
 namespace {
 
-// Ambient cubes for a dynamic object: trilinear interpolation across a 2×1×1 grid at the
-// object's centre, then n_x²·C(±x) + n_y²·C(±y) + n_z²·C(±z) along the (normal-mapped) normal.
-TEST_F(RealtimeTest, AmbientCubesLightProbedInstances) {
-  const Color albedo(0.5f, 0.6f, 0.7f);
-  const vec3 n = glm::normalize(vec3(0.6f, 0.0f, 0.8f));
-  Scene scene = lightmap_quad(true, n);
-  scene.instances[0].transform = glm::translate(mat4(1.0f), vec3(0.5f, 0.0f, 0.0f));
-  scene.camera->position.x += 0.5f;
-  scene.camera->look_at.x += 0.5f;
-  AmbientCubeGrid grid;
-  grid.size = glm::ivec3(2, 1, 1);
-  grid.origin = vec3(-1.0f, 0.0f, 0.0f);
-  grid.spacing = vec3(2.0f);  // probes at x = −1 and x = +1; the quad's centre x = 0.5 → t = 0.75
-  const Color left_px(1, 0, 0), left_pz(0, 1, 0), right_px(0, 0, 1), right_pz(1, 1, 0);
-  for (const auto& [px, pz] : {std::pair{left_px, left_pz}, std::pair{right_px, right_pz}}) {
-    grid.cubes.insert(grid.cubes.end(),
-                      {px, Color(9.0f), Color(9.0f), Color(9.0f), pz, Color(9.0f)});
-  }
-  grid.instances = {0};
-  RenderSettings o;
-  o.width = o.height = 32;
-  o.shadows = "none";
-  o.set("lighting.ambient", Color(5.0f));  // must be replaced by the cube for the probed instance
-  Renderer r(context(), scene, o);
-  r.set_ambient_cubes(grid);
-  r.render(*scene.camera);
-  const Color cx = 0.25f * left_px + 0.75f * right_px, cz = 0.25f * left_pz + 0.75f * right_pz;
-  expect_color_near(r.hdr().rgb(16, 16), albedo * (n.x * n.x * cx + n.z * n.z * cz));
-  grid.cubes.pop_back();
-  EXPECT_THROW(r.set_ambient_cubes(grid), Error);
-}
-
-}  // namespace
-}  // namespace illum::realtime
-
-namespace illum::realtime {
-namespace {
-
 // PRT relit under a moving sun: the unshadowed diffuse transfer of a plane facing +z at 2
 // bands, T_i = (Λ_l/π)·Y_i(n) (Y00 and (2/3)·Y10(n), docs/prt.md), under a sun of
 // irradiance E at angle θ gives albedo·E/π·(1/4 + cosθ/2) — the L1 approximation of cosθ —

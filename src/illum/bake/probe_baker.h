@@ -70,7 +70,7 @@ struct ProbeRecord {
 };
 static_assert(sizeof(ProbeRecord) == 47 * sizeof(float));
 
-// probes at origin + spacing·(x, y, z), index (z·ny + y)·nx + x (realtime AmbientCubeGrid's).
+// probes at origin + spacing·(x, y, z), index (z·ny + y)·nx + x (realtime::ProbeVolume's).
 struct ProbeGrid {
   glm::ivec3 size{0};
   vec3 origin{0.0f};

@@ -57,76 +57,40 @@ Color lookup_irradiance(const ProbeSet& set, const vec3& p, const vec3& n,
   return irradiance_from_sh(s.irradiance, n);
 }
 
-ProbeCubeGrid probe_cube_grid(const ProbeSet& set, const Scene& scene) {
-  check_probe_scene(scene, set);
-  const ProbeGrid& grid = set.grid;
-  const glm::ivec3 n = grid.size;
-  ProbeCubeGrid out;
-  out.size = n;
-  out.origin = grid.origin;
-  out.spacing = vec3(grid.spacing);
-  const size_t count = set.probes.size();
-  out.cubes.assign(count * 6, Color(0.0f));
-  std::vector<uint8_t> filled(count, 0);
-  for (size_t i = 0; i < count; ++i) {
-    if (set.probes[i].weight == 0.0f) continue;
-    for (int f = 0; f < 6; ++f)
-      out.cubes[i * 6 + size_t(f)] = Color(set.probes[i].cube[3 * f], set.probes[i].cube[3 * f + 1],
-                                           set.probes[i].cube[3 * f + 2]);
-    filled[i] = 1;
-  }
-  // Fill invalid probes ring by ring from the valid ones (each pass reads only probes filled
-  // before it, so the result does not depend on the order within a pass).
-  for (bool changed = true; changed;) {
-    changed = false;
-    std::vector<uint8_t> next = filled;
-    for (int z = 0; z < n.z; ++z)
-      for (int y = 0; y < n.y; ++y)
-        for (int x = 0; x < n.x; ++x) {
-          const size_t i = (size_t(z) * size_t(n.y) + size_t(y)) * size_t(n.x) + size_t(x);
-          if (filled[i]) continue;
-          Color sum[6] = {};
-          int used = 0;
-          for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                const int xx = x + dx, yy = y + dy, zz = z + dz;
-                if (xx < 0 || yy < 0 || zz < 0 || xx >= n.x || yy >= n.y || zz >= n.z) continue;
-                const size_t j = (size_t(zz) * size_t(n.y) + size_t(yy)) * size_t(n.x) + size_t(xx);
-                if (!filled[j]) continue;
-                for (int f = 0; f < 6; ++f) sum[f] += out.cubes[j * 6 + size_t(f)];
-                ++used;
-              }
-          if (used == 0) continue;
-          for (int f = 0; f < 6; ++f) out.cubes[i * 6 + size_t(f)] = sum[f] / float(used);
-          next[i] = 1;
-          changed = true;
-        }
-    filled = std::move(next);
-  }
-  for (size_t i = 0; i < scene.instances.size(); ++i)
-    if (scene.instances[i].dynamic) out.instances.push_back(int(i));
-  return out;
-}
-
 std::vector<InstanceCube> dynamic_instance_cubes(const ProbeSet& set, const Scene& scene,
                                                  const RayTracer* occluders) {
   check_probe_scene(scene, set);
   std::vector<InstanceCube> out;
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
-    const Instance& inst = scene.instances[i];
-    if (!inst.dynamic) continue;
+  for (const int i : dynamic_instances(scene)) {
+    const Instance& inst = scene.instances[size_t(i)];
     Bounds3 b;
     for (const vec3& p : scene.meshes[size_t(inst.mesh)].positions)
       b.extend(vec3(inst.transform * vec4(p, 1.0f)));
     const ProbeSample s = lookup_probes(set, b.center(), occluders);
     InstanceCube cube;
-    cube.instance = int(i);
+    cube.instance = i;
     cube.weight = s.weight;
     for (int f = 0; f < 6; ++f)
       cube.cube[f] = Color(s.cube[3 * f], s.cube[3 * f + 1], s.cube[3 * f + 2]);
     out.push_back(cube);
   }
+  return out;
+}
+
+std::vector<float> probe_volume_data(std::span<const ProbeRecord> probes) {
+  std::vector<float> data;
+  data.reserve(probes.size() * kProbeVolumeFloats);
+  for (const ProbeRecord& r : probes) {
+    data.insert(data.end(), std::begin(r.irradiance), std::end(r.irradiance));
+    data.push_back(r.weight);
+  }
+  return data;
+}
+
+std::vector<int> dynamic_instances(const Scene& scene) {
+  std::vector<int> out;
+  for (size_t i = 0; i < scene.instances.size(); ++i)
+    if (scene.instances[i].dynamic) out.push_back(int(i));
   return out;
 }
 

@@ -1,5 +1,4 @@
-// CPU lookups in a baked probe grid (probe_file.h) and its conversion for the real-time
-// renderer's ambient cubes.
+// CPU lookups in a baked probe grid (probe_file.h).
 //
 // Lookup at a point p: the 8 probes of the grid cell around p (p clamped into the grid),
 // each with its trilinear weight × its validity weight (0 for an invalid probe) × (with
@@ -11,6 +10,7 @@
 // probes on the wall's other side are blocked and drop out.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "illum/bake/probe_file.h"
@@ -32,23 +32,10 @@ ProbeSample lookup_probes(const ProbeSet& set, const vec3& p, const RayTracer* o
 Color lookup_irradiance(const ProbeSet& set, const vec3& p, const vec3& n,
                         const RayTracer* occluders = nullptr);
 
-// The real-time renderer's input for the instances of `scene` marked dynamic
-// (realtime::AmbientCubeGrid in realtime/baked_data.h has the same fields: copy them over).
-// The renderer interpolates the grid trilinearly at each instance's centre without validity
-// weights, so invalid probes are filled here with the mean of their valid neighbours
-// (26-neighbourhood, repeated outward until every probe is filled; all black if none is
-// valid). Throws Error (check_probe_scene) when the set was baked for another scene.
-struct ProbeCubeGrid {
-  glm::ivec3 size{0};
-  vec3 origin{0.0f}, spacing{1.0f};
-  std::vector<Color> cubes;    // 6 per probe, faces +x, −x, +y, −y, +z, −z, E/π
-  std::vector<int> instances;  // the dynamic instances of `scene`
-};
-ProbeCubeGrid probe_cube_grid(const ProbeSet& set, const Scene& scene);
-
-// Exact lookups instead (validity- and, with `occluders`, visibility-weighted): one cube per
-// dynamic instance at the centre of its world bounds, for a renderer that takes cubes per
-// draw (realtime BakedData::cubes, 6 per probed draw).
+// One ambient cube per dynamic instance at the centre of its world bounds (validity- and,
+// with `occluders`, visibility-weighted lookups). The real-time renderer does its own lookup
+// (realtime/probe_volume.h: per pixel, with a leak guard in place of visibility rays).
+// Throws Error (check_probe_scene) when the set was baked for another scene.
 struct InstanceCube {
   int instance = -1;
   Color cube[6];
@@ -56,5 +43,12 @@ struct InstanceCube {
 };
 std::vector<InstanceCube> dynamic_instance_cubes(const ProbeSet& set, const Scene& scene,
                                                  const RayTracer* occluders = nullptr);
+
+// The records as the real-time renderer reads them (realtime::ProbeVolume::probes, without
+// this layer including it): per probe its 27 irradiance coefficients, then its weight.
+inline constexpr int kProbeVolumeFloats = kProbeCoefficients * 3 + 1;
+std::vector<float> probe_volume_data(std::span<const ProbeRecord> probes);
+// The instances of `scene` marked dynamic (the ones the probes light), in scene order.
+std::vector<int> dynamic_instances(const Scene& scene);
 
 }  // namespace illum::bake

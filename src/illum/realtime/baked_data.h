@@ -1,6 +1,7 @@
-// Baked lighting the renderer shows (the `baked` add-on): light-maps, ambient-cube probes,
-// PRT transfer vectors. The renderer keeps them (Renderer::set_lightmap, ...) so the
-// add-on can be switched off and on again without giving them anew.
+// Baked lighting the renderer shows (the `baked` add-on): light-maps, the irradiance volume
+// of probes for dynamic objects, PRT transfer vectors. The renderer keeps them
+// (Renderer::set_lightmap, ...) so the add-on can be switched off and on again without giving them
+// anew.
 #pragma once
 
 #include <cstdint>
@@ -8,6 +9,7 @@
 
 #include "illum/core/image.h"
 #include "illum/core/math.h"
+#include "illum/realtime/probe_volume.h"
 #include "illum/scene/scene.h"
 
 namespace illum::realtime {
@@ -22,17 +24,6 @@ enum class LightmapKind : int { kNone = 0, kPlain = 1, kRnm = 2, kShL1 = 3, kDom
 struct Lightmap {
   LightmapKind kind = LightmapKind::kNone;
   std::vector<Image> layers;
-};
-
-// A regular grid of ambient cubes (probes) lighting dynamic objects: each listed instance
-// takes the cube trilinearly interpolated at its world-bounds centre (clamped to the grid)
-// instead of the light-map / constant ambient. cubes[((z·ny + y)·nx + x)·6 + face], faces
-// +x, −x, +y, −y, +z, −z; radiance-like values multiplied by albedo.
-struct AmbientCubeGrid {
-  glm::ivec3 size{0};
-  vec3 origin{0.0f}, spacing{1.0f};
-  std::vector<Color> cubes;
-  std::vector<int> instances;
 };
 
 // Baked PRT transfer (bake/prt_file.h) for display: RGB SH vectors T of bands² coefficients,
@@ -56,15 +47,19 @@ struct PrtTransfer {
 
 struct BakedData {
   Lightmap lightmap;
-  std::vector<vec4> cubes;     // 6 values per probed draw's interpolated cube
+  // The probes lighting the dynamic instances (empty: none), read per pixel
+  // (shaders/probe_volume.glsl); and, for the per-instance fallback (baked.probe_lookup =
+  // instance), one ambient cube per probed draw: 6 values E/π (+x, −x, +y, −y, +z, −z), the
+  // per-pixel lookup at the centre of the instance's world bounds along each axis.
+  ProbeVolume probes;
+  std::vector<vec4> cubes;     // 6 values per probed draw's cube
   std::vector<int> draw_cube;  // per draw item: its cube + 1, 0 for none (empty: no probes)
   PrtTransfer prt;             // lookup kNone: no PRT
 };
 
-// Fills data->cubes and data->draw_cube from `grid` for the draws of `scene` (draw_instances:
-// the instance of each draw item); throws Error for a grid whose size does not match its
-// values or an instance that does not exist.
-void interpolate_ambient_cubes(const AmbientCubeGrid& grid, const Scene& scene,
-                               const std::vector<int>& draw_instances, BakedData* data);
+// Fills data->cubes and data->draw_cube from `volume` for the draws of `scene`
+// (draw_instances: the instance of each draw item); throws Error as check_probe_volume.
+void probe_instance_cubes(const ProbeVolume& volume, const Scene& scene,
+                          const std::vector<int>& draw_instances, BakedData* data);
 
 }  // namespace illum::realtime

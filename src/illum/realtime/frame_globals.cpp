@@ -60,8 +60,9 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
   layouts_[kShadowSet] = gpu::DescriptorSetLayout(
       context,
       {B{0, kUbo}, B{1, kSsbo}, B{2, kTexture}, B{3, kTexture}, B{4, kTexture}, B{5, kSsbo}});
-  layouts_[kBakedSet] = gpu::DescriptorSetLayout(
-      context, {B{0, kUbo}, B{1, kTexture}, B{2, kSsbo}, B{3, kSsbo}, B{4, kSsbo}, B{5, kSsbo}});
+  layouts_[kBakedSet] =
+      gpu::DescriptorSetLayout(context, {B{0, kUbo}, B{1, kTexture}, B{2, kSsbo}, B{3, kSsbo},
+                                         B{4, kSsbo}, B{5, kSsbo}, B{6, kSsbo}});
 
   gpu::DescriptorWriter w;
   frame_set_ = descriptors_.allocate(layouts_[kFrameSet]);
@@ -110,7 +111,8 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
       .buffer(baked, 2, kSsbo, dummy_buffer_.handle())
       .buffer(baked, 3, kSsbo, dummy_buffer_.handle())
       .buffer(baked, 4, kSsbo, dummy_buffer_.handle())
-      .buffer(baked, 5, kSsbo, dummy_buffer_.handle());
+      .buffer(baked, 5, kSsbo, dummy_buffer_.handle())
+      .buffer(baked, 6, kSsbo, dummy_buffer_.handle());
   quad_counter_ =
       gpu::Buffer(context, 2 * sizeof(uint32_t),
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |

@@ -47,10 +47,14 @@ struct GpuShadowLight {
 
 // Set 4, baked lighting: baked.glsl.
 inline constexpr int kMaxPrtCoefficients = 64;  // 8 bands
+inline constexpr int kProbeLookupPixel = 1;     // probe_size.w: the per-pixel volume lookup
 struct BakedUniforms {
   glm::ivec4 info;  // light-map kind, PRT lookup (PrtLookup), entries of draw_cubes, bands²
   glm::vec4 intensity;
-  glm::ivec4 prt_size;  // atlas width, height; halves per point (3·bands² rounded up to even)
+  glm::ivec4 prt_size;      // atlas width, height; halves per point (3·bands² rounded up to even)
+  glm::ivec4 probe_size;    // probe grid nx, ny, nz; w: kProbeLookupPixel or 0 (ambient cubes)
+  glm::vec4 probe_origin;   // xyz: probe (0, 0, 0)
+  glm::vec4 probe_spacing;  // xyz
   glm::vec4 prt_light[kMaxPrtCoefficients];
 };
 

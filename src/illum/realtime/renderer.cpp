@@ -405,9 +405,10 @@ void Renderer::set_lightmap(const Lightmap& lightmap) {
   impl_->switch_on_baked();
 }
 
-void Renderer::set_ambient_cubes(const AmbientCubeGrid& grid) {
+void Renderer::set_probe_volume(const ProbeVolume& volume) {
   Impl& m = *impl_;
-  interpolate_ambient_cubes(grid, m.scene.scene(), m.scene.draw_instances(), &m.baked);
+  probe_instance_cubes(volume, m.scene.scene(), m.scene.draw_instances(), &m.baked);
+  m.baked.probes = volume;
   m.switch_on_baked();
 }
 

@@ -74,7 +74,9 @@ class Renderer {
   // Baked lighting, shown by the `baked` add-on (switched on by these; replacing the
   // constant ambient). set_lightmap throws Error on a wrong layer count or mismatched sizes.
   void set_lightmap(const Lightmap& lightmap);
-  void set_ambient_cubes(const AmbientCubeGrid& grid);
+  // The probes lighting the instances volume.instances (probe_volume.h): per pixel, or one
+  // ambient cube per instance (baked.probe_lookup). Throws Error as check_probe_volume.
+  void set_probe_volume(const ProbeVolume& volume);
   // PRT transfer (baked_data.h), shown in every frame pipeline: the ambient term becomes
   // albedo × max(Σ T_i L_i, 0) with L_i the `baked` add-on's sun (baked.sun_*) projected to
   // SH each frame; the scene's lights still add their own light (a caller showing a bake

@@ -85,7 +85,7 @@ struct Instance {
   mat4 transform{1.0f};  // object → world
   // Marked `"dynamic": true` in a scene file: an object that moves at run time, so bakes
   // leave it out of their geometry and the real-time renderer lights it from the probes
-  // (bake/probe_lookup.h) instead of a light-map.
+  // (realtime/probe_volume.h) instead of a light-map.
   bool dynamic = false;
   // `"lightmap": {"texel_size": s}` in a scene file: this object's light-map texels are s
   // metres, whatever the bake's --texel-size (0: the bake's).

@@ -1,6 +1,7 @@
 // Baked lighting in the ambient term (shaders/baked.glsl, slot 4): light-maps (plain, RNM,
-// SH-L1) at uv1, ambient-cube probes per draw, and PRT transfer (per vertex, per texel or
-// VQ-compressed, 1..8 bands) relit each frame by a sun projected to SH on the CPU
+// SH-L1) at uv1, the probes' irradiance volume on dynamic instances (per pixel,
+// shaders/probe_volume.glsl, or one ambient cube per instance), and PRT transfer (per vertex, per
+// texel or VQ-compressed, 1..8 bands) relit each frame by a sun projected to SH on the CPU
 // (shaders/prt.glsl). The data stays with the renderer (Renderer::set_lightmap, ...);
 // switching the add-on on uploads it into this technique's own set.
 #include <glm/gtc/packing.hpp>
@@ -13,46 +14,6 @@
 #include "illum/realtime/techniques/techniques.h"
 
 namespace illum::realtime {
-
-void interpolate_ambient_cubes(const AmbientCubeGrid& grid, const Scene& scene,
-                               const std::vector<int>& draw_instances, BakedData* out) {
-  const glm::ivec3 n = grid.size;
-  if (n.x < 1 || n.y < 1 || n.z < 1 ||
-      grid.cubes.size() != static_cast<size_t>(n.x) * n.y * n.z * 6)
-    throw Error(fmt::format("ambient cubes: {} values for a {}×{}×{} grid (need 6 per probe)",
-                            grid.cubes.size(), n.x, n.y, n.z));
-  std::vector<vec4> data;
-  std::vector<int> draw_cube(draw_instances.size(), 0);
-  auto at = [&](int x, int y, int z, int f) {
-    return grid.cubes[((static_cast<size_t>(z) * n.y + y) * n.x + x) * 6 + f];
-  };
-  for (int inst : grid.instances) {
-    if (inst < 0 || static_cast<size_t>(inst) >= scene.instances.size())
-      throw Error(fmt::format("ambient cubes: instance {} does not exist", inst));
-    const Instance& in = scene.instances[static_cast<size_t>(inst)];
-    Bounds3 b;
-    for (const vec3& p : scene.meshes[static_cast<size_t>(in.mesh)].positions)
-      b.extend(vec3(in.transform * vec4(p, 1.0f)));
-    const vec3 g = glm::clamp((b.center() - grid.origin) / grid.spacing, vec3(0.0f), vec3(n - 1));
-    const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(g)), n - 1);
-    const glm::ivec3 i1 = glm::min(i0 + 1, n - 1);
-    const vec3 t = g - vec3(i0);
-    const int cube = static_cast<int>(data.size() / 6);
-    for (int f = 0; f < 6; ++f) {
-      Color c(0.0f);
-      for (int k = 0; k < 8; ++k) {
-        const int x = k & 1 ? i1.x : i0.x, y = k & 2 ? i1.y : i0.y, z = k & 4 ? i1.z : i0.z;
-        const float w = (k & 1 ? t.x : 1 - t.x) * (k & 2 ? t.y : 1 - t.y) * (k & 4 ? t.z : 1 - t.z);
-        c += w * at(x, y, z, f);
-      }
-      data.emplace_back(c, 0.0f);
-    }
-    for (size_t di = 0; di < draw_instances.size(); ++di)
-      if (draw_instances[di] == inst) draw_cube[di] = cube + 1;
-  }
-  out->cubes = std::move(data);
-  out->draw_cube = std::move(draw_cube);
-}
 
 namespace {
 
@@ -144,6 +105,10 @@ class Baked final : public Technique {
     const VkBuffer vq = storage(indices.data(), indices.size() * sizeof(uint32_t), &vq_);
     const VkBuffer draw_cube =
         storage(data.draw_cube.data(), data.draw_cube.size() * sizeof(int), &draw_cube_);
+    // The probe volume as 32-bit floats in a storage buffer (DESIGN.md decisions): 112 bytes a
+    // probe, read with 8 fetches per pixel whose weights include each probe's validity.
+    const VkBuffer probes =
+        storage(data.probes.probes.data(), data.probes.probes.size() * sizeof(float), &probes_);
     uniforms_ = gpu::Buffer(ctx.gpu, sizeof(BakedUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                             gpu::MemoryUsage::kUpload);
     set_ = descriptors_.allocate(g.layout(kBakedSet));
@@ -156,6 +121,7 @@ class Baked final : public Technique {
         .buffer(set_, 3, ssbo, prt)
         .buffer(set_, 4, ssbo, draw_cube)
         .buffer(set_, 5, ssbo, vq)
+        .buffer(set_, 6, ssbo, probes)
         .commit(ctx.gpu.device());
   }
 
@@ -169,6 +135,12 @@ class Baked final : public Technique {
     u.info = glm::ivec4(static_cast<int>(data.lightmap.kind), static_cast<int>(lookup_),
                         static_cast<int>(data.draw_cube.size()), 0);
     u.intensity = vec4(param<float>("intensity"), 0.0f, 0.0f, 0.0f);
+    if (!data.probes.empty()) {
+      const bool per_pixel = param<std::string>("probe_lookup") == "pixel";
+      u.probe_size = glm::ivec4(data.probes.size, per_pixel ? kProbeLookupPixel : 0);
+      u.probe_origin = vec4(data.probes.origin, 0.0f);
+      u.probe_spacing = vec4(data.probes.spacing, 0.0f);
+    }
     if (lookup_ != PrtLookup::kNone) {
       // The sun as illum relight projects it: L_i = E·Y_i(s), s towards the sun, world frame.
       const int bands = data.prt.bands;
@@ -188,7 +160,7 @@ class Baked final : public Technique {
  private:
   gpu::DescriptorAllocator descriptors_;
   gpu::GpuImage lightmap_;
-  gpu::Buffer cubes_, prt_, draw_cube_, vq_, uniforms_;
+  gpu::Buffer cubes_, prt_, draw_cube_, vq_, probes_, uniforms_;
   PrtLookup lookup_ = PrtLookup::kNone;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };
@@ -200,8 +172,9 @@ TechniqueDecl baked_technique() {
   t.name = "baked";
   t.kind = TechniqueKind::kAddOn;
   t.summary =
-      "baked lighting shown in the ambient term: light-maps (plain, RNM, SH-L1), ambient-cube "
-      "probes for listed instances, PRT transfer relit by a sun (per vertex, per texel or VQ; "
+      "baked lighting shown in the ambient term: light-maps (plain, RNM, SH-L1), the probes' "
+      "irradiance volume on dynamic instances, PRT transfer relit by a sun (per vertex, per texel "
+      "or VQ; "
       "--baked DIR); switched on when such data is given";
   t.params = {
       float_param("intensity", 1.0f, 0.0f, 1e6f, "multiplies the light-map")
@@ -218,6 +191,9 @@ TechniqueDecl baked_technique() {
       enum_param("prt_lookup", "auto", {"auto", "texels", "vertices", "vq"},
                  "PRT lookup (illum relight --lookup): auto = texels when baked, else vertices")
           .structural(),
+      enum_param("probe_lookup", "pixel", {"pixel", "instance"},
+                 "dynamic instances: pixel = trilinear SH-L2 lookup of the probe volume per pixel "
+                 "with validity weights; instance = one ambient cube per instance at its centre"),
   };
   t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
     return std::make_unique<Baked>(ctx, *find_technique("baked"));
