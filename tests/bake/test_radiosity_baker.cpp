@@ -88,6 +88,15 @@ std::vector<TexelClass> classify(const Scene& scene, const RayTracer& tracer,
   return out;
 }
 
+// The raw path-traced bake the Cornell comparisons measure radiosity against.
+bake::LightmapBake path_bake_512(const Charted& c) {
+  bake::LightmapBakeOptions po;
+  po.spp = 512;
+  po.progress = false;
+  po.dilate = 0;
+  return bake::bake_lightmap(c.scene, *c.tracer, c.raster, po);
+}
+
 RadiosityBakeOptions quiet(double threshold = 1e-3) {
   RadiosityBakeOptions o;
   o.threshold = threshold;
@@ -154,11 +163,7 @@ TEST(RadiosityBaker, CornellAgreesWithThePathBakerPerTexel) {
   const RadiosityBake r3 = bake::bake_radiosity(c.scene, *c.tracer, c.raster, o);
   o.group_size = 1;
   const RadiosityBake r1 = bake::bake_radiosity(c.scene, *c.tracer, c.raster, o);
-  bake::LightmapBakeOptions po;
-  po.spp = 512;
-  po.progress = false;
-  po.dilate = 0;
-  const bake::LightmapBake p = bake::bake_lightmap(c.scene, *c.tracer, c.raster, po);
+  const bake::LightmapBake p = path_bake_512(c);
 
   const float h = c.texel_size;
   const double near_distance = 2.0 * h;
@@ -238,11 +243,7 @@ TEST(RadiosityBaker, ClustersChangeOnlyTheVisibilityTheyShare) {
   const RadiosityBake plain = bake::bake_radiosity(c.scene, *c.tracer, c.raster, o);
   o.cluster_ratio = 3.0f * bake::kDefaultClusterRatio;  // so clusters are shared at 40²
   const RadiosityBake clustered = bake::bake_radiosity(c.scene, *c.tracer, c.raster, o);
-  bake::LightmapBakeOptions po;
-  po.spp = 512;
-  po.progress = false;
-  po.dilate = 0;
-  const bake::LightmapBake p = bake::bake_lightmap(c.scene, *c.tracer, c.raster, po);
+  const bake::LightmapBake p = path_bake_512(c);
   const double e_plain = relative_rmse(c, plain.layers[0], p.layers[0]);
   const double e_clustered = relative_rmse(c, clustered.layers[0], p.layers[0]);
   std::printf(
