@@ -33,6 +33,7 @@ struct RadiosityArgs {
   int reference_spp = 4096;
   double threshold = bake::kDefaultRadiosityThreshold;
   int max_spp = 4096;
+  std::vector<double> cluster_ratios{bake::kDefaultClusterRatio};
   int threads = 0;
   std::string images;  // folder for the PNGs, "" = none
   std::string json_path;
@@ -93,8 +94,15 @@ int run_radiosity(SuiteArgs args) {
   app.add_option("--threshold", a.threshold, "radiosity convergence threshold")
       ->check(CLI::Range(1e-9, 0.999))
       ->capture_default_str();
-  app.add_option("--max-spp", a.max_spp, "largest spp tried for the path baker")
-      ->check(CLI::Range(1, 1 << 20))
+  app.add_option("--max-spp", a.max_spp,
+                 "largest spp tried for the path baker (0: no time-to-equal-error search)")
+      ->check(CLI::Range(0, 1 << 20))
+      ->capture_default_str();
+  app.add_option("--cluster-ratio", a.cluster_ratios,
+                 "receiver clusters share visibility at size/distance ≤ this (0: a ray per "
+                 "receiver, the unclustered bake); several values: one bake each")
+      ->check(CLI::Range(0.0, 0.5))
+      ->delimiter(',')
       ->capture_default_str();
   app.add_option("--threads", a.threads, "worker threads (0: all cores)")
       ->check(CLI::Range(0, 4096));
@@ -124,17 +132,36 @@ int run_radiosity(SuiteArgs args) {
   const double reference_noise =
       std::sqrt(variance / double(raster.covered())) / (mean / double(raster.covered()));
 
+  std::printf("%s %dx%d, %zu texels; reference %d spp (own noise %.4f) %.1fs\n", scene.name.c_str(),
+              raster.width, raster.height, raster.covered(), a.reference_spp, reference_noise,
+              reference.seconds);
+  // One radiosity bake per cluster ratio (the same atlas and reference); the time-to-equal-
+  // error search and the images use the last.
   bake::RadiosityBakeOptions radiosity;
   radiosity.progress = false;
   radiosity.dilate = 0;
   radiosity.threshold = a.threshold;
-  const bake::RadiosityBake r = bake::bake_radiosity(scene, tracer, raster, radiosity);
-  const double radiosity_error = relative_rmse(raster, r.layers[0], reference.layers[0]);
-  std::printf("%s %dx%d, %zu texels; reference %d spp (own noise %.4f) %.1fs\n", scene.name.c_str(),
-              raster.width, raster.height, raster.covered(), a.reference_spp, reference_noise,
-              reference.seconds);
-  std::printf("radiosity threshold %g: %.3fs, %lld shots, relative RMSE %.4f\n", a.threshold,
-              r.seconds, (long long)r.shots, radiosity_error);
+  nlohmann::json radiosity_runs = nlohmann::json::array();
+  bake::RadiosityBake r;
+  double radiosity_error = 0.0;
+  for (const double ratio : a.cluster_ratios) {
+    radiosity.cluster_ratio = float(ratio);
+    r = bake::bake_radiosity(scene, tracer, raster, radiosity);
+    radiosity_error = relative_rmse(raster, r.layers[0], reference.layers[0]);
+    std::printf(
+        "radiosity threshold %g, cluster ratio %g: %.3fs, %lld shots, %lld visibility rays "
+        "(%.1f per shot), %lld shared clusters, relative RMSE %.4f\n",
+        a.threshold, ratio, r.seconds, (long long)r.shots, (long long)r.visibility_rays,
+        double(r.visibility_rays) / double(std::max<int64_t>(r.shots, 1)),
+        (long long)r.shared_clusters, radiosity_error);
+    std::fflush(stdout);
+    radiosity_runs.push_back({{"cluster_ratio", ratio},
+                              {"seconds", r.seconds},
+                              {"shots", r.shots},
+                              {"visibility_rays", r.visibility_rays},
+                              {"shared_clusters", r.shared_clusters},
+                              {"relative_rmse", radiosity_error}});
+  }
 
   // Path bakes at doubling spp, denoised as the CLI bakes, until below radiosity's error.
   nlohmann::json runs = nlohmann::json::array();
@@ -170,6 +197,7 @@ int run_radiosity(SuiteArgs args) {
                            {"radiosity_threshold", a.threshold},
                            {"radiosity_seconds", r.seconds},
                            {"radiosity_shots", r.shots},
+                           {"radiosity_runs", radiosity_runs},
                            {"radiosity_relative_rmse", radiosity_error},
                            {"path_runs", runs},
                            {"machine", machine_info()}};
@@ -178,7 +206,7 @@ int run_radiosity(SuiteArgs args) {
                 equal_time / r.seconds);
     result["path_seconds_at_equal_error"] = equal_time;
     result["ratio_path_over_radiosity"] = equal_time / r.seconds;
-  } else {
+  } else if (a.max_spp > 0) {
     std::printf("the path baker did not reach radiosity's error within %d spp\n", a.max_spp);
   }
   if (!a.images.empty() && equal_time > 0.0) {

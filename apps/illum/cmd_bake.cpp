@@ -340,11 +340,13 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"samples_per_surface", radiosity_options.samples_per_surface},
                 {"sky_rays", radiosity_options.sky_rays},
                 {"reach_rays", radiosity_options.reach_rays},
+                {"cluster_ratio", radiosity_options.cluster_ratio},
                 {"seed", radiosity_options.seed},
                 {"dilate", radiosity_options.dilate},
                 {"stitch", radiosity_options.stitch},
                 {"stitch_coplanar", radiosity_options.stitch_coplanar},
                 {"shots", radiosity_baked.shots},
+                {"visibility_rays", radiosity_baked.visibility_rays},
                 {"initial_power", radiosity_baked.initial_power},
                 {"remaining_power", radiosity_baked.remaining_power},
                 {"converged", radiosity_baked.converged}};

@@ -31,6 +31,7 @@
 #include <span>
 #include <vector>
 
+#include "illum/bake/shooting_clusters.h"
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/math.h"
@@ -77,13 +78,18 @@ struct ShootingOptions {
   uint64_t seed = 0;
   int64_t max_shots = 0;       // 0: no limit
   double time_budget_s = 0.0;  // 0: no limit; else stop after the first shot past it
+  // Receiver clusters (shooting_clusters.h): a far cluster whose half-diagonal is at most
+  // cluster_ratio × its distance from the shooter shares the visibility of its probe rays
+  // when they agree. 0: one ray per receiver (the unclustered result).
+  float cluster_ratio = 0.0f;
   bool progress = true;
   const char* label = "shooting";
 };
 
 struct ShootingStats {
   int64_t shots = 0;
-  int64_t visibility_tests = 0;
+  int64_t visibility_tests = 0;  // rays cast for form factors (probes included)
+  int64_t shared_clusters = 0;   // clusters whose receivers shared their probes' visibility
   int64_t full_searches = 0;
   double initial_power = 0.0;
   double remaining_power = 0.0;  // unshot power left (Σ magnitude·area)
@@ -180,6 +186,10 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   const double stop_total = options.threshold * stats.initial_power;
   const double stop_patch = stop_total / double(n);
   std::vector<float> factor(static_cast<size_t>(n));
+  std::vector<vec3> positions(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) positions[size_t(i)] = patches[size_t(i)].position;
+  const ReceiverClusters clusters = build_receiver_clusters(positions);
+  std::vector<int64_t> task_rays(clusters.tasks.size()), task_shared(clusters.tasks.size(), 0);
   std::vector<int> members;
   std::vector<Payload> member_power;
   double scale_weighted = 0.0, scale_weight = 0.0;
@@ -277,27 +287,49 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
       const vec3 d = r.position - source.position;
       return members.size() > 1 && glm::dot(d, d) < near2;
     };
-    parallel_for(n, [&](int64_t i0, int64_t i1) {
-      for (int64_t i = i0; i < i1; ++i) {
-        const ShootingPatch& r = patches[size_t(i)];
-        float k = 0.0f;
-        if (r.surface == centre.surface &&
-            std::find(members.begin(), members.end(), int(i)) != members.end()) {
-          k = 0.0f;
-        } else if (is_near(r)) {
-          double sum = 0.0;
-          for (size_t m = 0; m < members.size(); ++m)
-            sum += member_weight[m] * double(member_factor(m, r));
-          k = float(sum / weight_sum);
-        } else {
-          k = shooting_form_factor(source.position, source.normal, source.area, r.position,
-                                   r.normal);
-        }
-        if (k > 0.0f && !transport.visible(source, int(i))) k = 0.0f;
-        factor[size_t(i)] = k;
+    // Far receivers: the factor from the group's centre (no ray). Per receiver as without
+    // clusters: members get nothing, near ones the members' weighted factors, then a ray.
+    auto unoccluded = [&](int32_t i) {
+      const ShootingPatch& r = patches[size_t(i)];
+      return shooting_form_factor(source.position, source.normal, source.area, r.position,
+                                  r.normal);
+    };
+    auto per_receiver = [&](int32_t i, int64_t* rays) {
+      const ShootingPatch& r = patches[size_t(i)];
+      float k = 0.0f;
+      if (r.surface == centre.surface &&
+          std::find(members.begin(), members.end(), int(i)) != members.end()) {
+        k = 0.0f;
+      } else if (is_near(r)) {
+        double sum = 0.0;
+        for (size_t m = 0; m < members.size(); ++m)
+          sum += member_weight[m] * double(member_factor(m, r));
+        k = float(sum / weight_sum);
+      } else {
+        k = unoccluded(i);
       }
-    });
-    stats.visibility_tests += n;  // an upper bound: receivers behind the source skip the ray
+      if (k > 0.0f) {
+        ++*rays;
+        if (!transport.visible(source, int(i))) k = 0.0f;
+      }
+      return k;
+    };
+    auto visible = [&](int32_t i) { return transport.visible(source, int(i)); };
+    parallel_for(
+        int64_t(clusters.tasks.size()),
+        [&](int64_t task0, int64_t task1) {
+          for (int64_t t = task0; t < task1; ++t)
+            task_rays[size_t(t)] =
+                cluster_factors(clusters, clusters.tasks[size_t(t)], source.position, source.normal,
+                                options.cluster_ratio, near2, per_receiver, unoccluded, visible,
+                                factor.data(), &task_shared[size_t(t)]);
+        },
+        1);
+    for (size_t t = 0; t < task_rays.size(); ++t) {
+      stats.visibility_tests += task_rays[t];
+      stats.shared_clusters += task_shared[t];
+      task_shared[t] = 0;
+    }
     float scale = 1.0f;
     const double reach = transport.reach(source);
     if (reach >= 0.0) {

@@ -27,6 +27,9 @@ constexpr int kMaxGroupSize = 15;
 constexpr int kMaxSamplesPerSurface = 1000;
 constexpr int kMaxRays = 65536;
 constexpr int kMaxDilate = 64;
+// A cluster of half-diagonal r at distance d subtends a cone of half-angle asin(r/d); past
+// 0.5 (30°) the shared visibility would stand for a sixth of the hemisphere's width.
+constexpr float kMaxClusterRatio = 0.5f;
 
 void validate(const RadiosityBakeOptions& o) {
   if (!(o.threshold > 0.0 && o.threshold < 1.0))  // NaN fails too
@@ -46,6 +49,9 @@ void validate(const RadiosityBakeOptions& o) {
   if (o.reach_rays < 0 || o.reach_rays > kMaxRays)
     throw Error(
         fmt::format("radiosity bake: reach_rays = {} must lie in [0, {}]", o.reach_rays, kMaxRays));
+  if (!(o.cluster_ratio >= 0.0f && o.cluster_ratio <= kMaxClusterRatio))
+    throw Error(fmt::format("radiosity bake: cluster_ratio = {} must lie in [0, {}]",
+                            o.cluster_ratio, kMaxClusterRatio));
   if (o.dilate < 0 || o.dilate > kMaxDilate)
     throw Error(
         fmt::format("radiosity bake: dilate = {} must lie in [0, {}]", o.dilate, kMaxDilate));
@@ -221,6 +227,7 @@ RadiosityBakeOptions RadiosityBakeOptions::from_params(const Params& params) {
   o.group_size = params.get<int>("group_size", o.group_size);
   o.sky_rays = params.get<int>("sky_rays", o.sky_rays);
   o.reach_rays = params.get<int>("reach_rays", o.reach_rays);
+  o.cluster_ratio = params.get<float>("cluster_ratio", o.cluster_ratio);
   o.dilate = params.get<int>("dilate", o.dilate);
   o.stitch = params.get<bool>("stitch", true);
   o.stitch_coplanar = params.get<bool>("stitch_coplanar", o.stitch_coplanar);
@@ -418,10 +425,13 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     shooting.group_size = options.group_size;
     shooting.seed = options.seed;
     shooting.time_budget_s = options.time_budget_s;
+    shooting.cluster_ratio = options.cluster_ratio;
     shooting.progress = options.progress && Progress::stderr_is_terminal();
     shooting.label = "radiosity";
     const ShootingStats stats = shoot_progressively(set, total, unshot, transport, shooting);
     bake.shots = stats.shots;
+    bake.visibility_rays = stats.visibility_tests;
+    bake.shared_clusters = stats.shared_clusters;
     bake.initial_power = stats.initial_power;
     bake.remaining_power = stats.remaining_power;
     bake.converged = stats.converged;

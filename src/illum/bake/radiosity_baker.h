@@ -29,6 +29,10 @@
 namespace illum::bake {
 
 inline constexpr double kDefaultRadiosityThreshold = 1e-3;
+// Measured (bench/results/dev2core-2026-12-02-radiosity-clusters): at 0.1 the relative RMSE
+// against the path-traced reference rises 10.80% → 10.87% on Sibenik 384² and 2.98% → 3.34%
+// on Cornell 128², for 1.5× and 1.75× less time; 0.2 saves little more (Sibenik: 1.6×).
+inline constexpr float kDefaultClusterRatio = 0.1f;
 
 struct RadiosityBakeOptions {
   LightmapBasis basis = LightmapBasis::kPlain;
@@ -44,6 +48,10 @@ struct RadiosityBakeOptions {
   // the shot's form factors are scaled to it (power conservation, progressive_shooting.h).
   // 0 turns the scaling off.
   int reach_rays = 256;
+  // Receiver clusters (shooting_clusters.h): a far cluster of receiver texels whose size is
+  // at most cluster_ratio × its distance from the shooter shares the visibility of its four
+  // probe rays when they agree; 0: one visibility ray per receiver texel (the O(N²) bake).
+  float cluster_ratio = kDefaultClusterRatio;
   int dilate = 4;
   // Seam stitching after dilation (lightmap_seams.h: stitch_seams), every layer (for
   // dominant: the SH-L1 sums it is made from). Off here, so a caller that fills this struct
@@ -57,8 +65,8 @@ struct RadiosityBakeOptions {
   bool progress = true;
 
   // Keys: basis, content, threshold, samples_per_surface (1..1000), group_size (1..15),
-  // sky_rays, reach_rays (0..65536), dilate (0..64), stitch (bool, default true), stitch_coplanar
-  // (bool, default true), seed.
+  // sky_rays, reach_rays (0..65536), cluster_ratio (0..0.5), dilate (0..64), stitch (bool,
+  // default true), stitch_coplanar (bool, default true), seed.
   // Throws Error on values out of
   // range (NaN included) or unknown names.
   static RadiosityBakeOptions from_params(const Params& params);
@@ -75,6 +83,8 @@ struct RadiosityBake {
   int64_t coplanar_edges = 0;   // coplanar edge pairs joined (lightmap_coplanar.h)
   int64_t shots = 0;
   int64_t rays = 0;
+  int64_t visibility_rays = 0;  // the shots' form-factor rays (part of `rays`)
+  int64_t shared_clusters = 0;  // receiver clusters that shared their probes' visibility
   size_t texels = 0;
   double initial_power = 0.0;    // W, Σ over texels of the initial unshot exitance × area
   double remaining_power = 0.0;  // W, left unshot when shooting stopped
