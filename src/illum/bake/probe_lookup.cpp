@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "illum/core/error.h"
+#include "illum/core/trilinear_cell.h"
+#include "illum/scene/instance_bounds.h"
 
 namespace illum::bake {
 
@@ -14,18 +16,16 @@ ProbeSample lookup_probes(const ProbeSet& set, const vec3& p, const RayTracer* o
   ProbeSample out;
   if (!is_finite(p)) return out;
   const glm::ivec3 n = grid.size;
-  const vec3 g = glm::clamp((p - grid.origin) / grid.spacing, vec3(0.0f), vec3(n - 1));
-  const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(g)), n - 1);
-  const glm::ivec3 i1 = glm::min(i0 + 1, n - 1);
-  const vec3 t = g - vec3(i0);
+  const TrilinearCell cell(n, grid.origin, vec3(grid.spacing), p);
   float weights[8];
   const ProbeRecord* records[8];
   float total = 0.0f;
   for (int k = 0; k < 8; ++k) {
-    const int x = k & 1 ? i1.x : i0.x, y = k & 2 ? i1.y : i0.y, z = k & 4 ? i1.z : i0.z;
+    const glm::ivec3 c = cell.corner(k);
+    const int x = c.x, y = c.y, z = c.z;
     const ProbeRecord& r =
         set.probes[(size_t(z) * size_t(n.y) + size_t(y)) * size_t(n.x) + size_t(x)];
-    float w = (k & 1 ? t.x : 1 - t.x) * (k & 2 ? t.y : 1 - t.y) * (k & 4 ? t.z : 1 - t.z);
+    float w = cell.weight(k);
     w *= r.weight;
     if (w > 0.0f && occluders) {
       const vec3 d = grid.position(x, y, z) - p;
@@ -63,10 +63,7 @@ std::vector<InstanceCube> dynamic_instance_cubes(const ProbeSet& set, const Scen
   std::vector<InstanceCube> out;
   for (const int i : dynamic_instances(scene)) {
     const Instance& inst = scene.instances[size_t(i)];
-    Bounds3 b;
-    for (const vec3& p : scene.meshes[size_t(inst.mesh)].positions)
-      b.extend(vec3(inst.transform * vec4(p, 1.0f)));
-    const ProbeSample s = lookup_probes(set, b.center(), occluders);
+    const ProbeSample s = lookup_probes(set, instance_bounds(scene, inst).center(), occluders);
     InstanceCube cube;
     cube.instance = i;
     cube.weight = s.weight;

@@ -7,7 +7,9 @@
 
 #include "illum/core/error.h"
 #include "illum/core/sh.h"
+#include "illum/core/trilinear_cell.h"
 #include "illum/realtime/baked_data.h"
+#include "illum/scene/instance_bounds.h"
 
 namespace illum::realtime {
 
@@ -43,24 +45,20 @@ ProbeVolumeSample probe_volume_irradiance(const ProbeVolume& volume, const vec3&
                                           const vec3& ng) {
   // shaders/probe_volume.glsl, line for line.
   const glm::ivec3 size = volume.size;
-  const vec3 g = glm::clamp((p - volume.origin) / volume.spacing, vec3(0.0f), vec3(size - 1));
-  const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(g)), size - 1);
-  const glm::ivec3 i1 = glm::min(i0 + 1, size - 1);
-  const vec3 t = g - vec3(i0);
+  const TrilinearCell cell(size, volume.origin, volume.spacing, p);
   float y[kProbeShCoefficients];
   sh::evaluate<float>(3, n, std::span<float>(y, kProbeShCoefficients));
   ProbeVolumeSample out;
   Color sum(0.0f);
   for (int k = 0; k < 8; ++k) {
-    const glm::ivec3 c(k & 1 ? i1.x : i0.x, k & 2 ? i1.y : i0.y, k & 4 ? i1.z : i0.z);
-    const vec3 f(k & 1 ? t.x : 1.0f - t.x, k & 2 ? t.y : 1.0f - t.y, k & 4 ? t.z : 1.0f - t.z);
+    const glm::ivec3 c = cell.corner(k);
     const size_t base =
         ((static_cast<size_t>(c.z) * static_cast<size_t>(size.y) + static_cast<size_t>(c.y)) *
              static_cast<size_t>(size.x) +
          static_cast<size_t>(c.x)) *
         kProbeFloats;
     const float* probe = volume.probes.data() + base;
-    float w = f.x * f.y * f.z * probe[kProbeFloats - 1];
+    float w = cell.weight(k) * probe[kProbeFloats - 1];
     const vec3 to_probe = volume.origin + volume.spacing * vec3(c) - p;
     const float facing =
         glm::dot(to_probe, ng) / std::sqrt(std::max(glm::dot(to_probe, to_probe), 1e-12f));
@@ -86,12 +84,10 @@ void probe_instance_cubes(const ProbeVolume& volume, const Scene& scene,
   std::vector<int> draw_cube(draw_instances.size(), 0);
   for (int inst : volume.instances) {
     const Instance& in = scene.instances[static_cast<size_t>(inst)];
-    Bounds3 b;
-    for (const vec3& p : scene.meshes[static_cast<size_t>(in.mesh)].positions)
-      b.extend(vec3(in.transform * vec4(p, 1.0f)));
+    const vec3 centre = instance_bounds(scene, in).center();
     const int cube = static_cast<int>(cubes.size() / 6);
     for (const vec3& axis : kAxes) {
-      const Color e = probe_volume_irradiance(volume, b.center(), axis, axis).irradiance;
+      const Color e = probe_volume_irradiance(volume, centre, axis, axis).irradiance;
       cubes.emplace_back(glm::max(e, Color(0.0f)) * kInvPi, 0.0f);
     }
     for (size_t di = 0; di < draw_instances.size(); ++di)
