@@ -32,13 +32,22 @@
 //   lanes of four — counted in the counting frame by shaders/quad_count.frag (the pass
 //   replayed with its own vertex stage and tests; its passing samples must equal the
 //   occlusion query's, or the bench stops), as 4 × quads samples of whole quads.
+// * shading: for a fragment pass whose work is per-fragment lighting (the forward pass),
+//   `illum frame` times that lighting with no scene geometry — one full-screen pass running
+//   the pass's light loop over a G-buffer of the same view, each covered pixel once
+//   (realtime/shading_bound.h) — and the bench scales its per-pixel part to the lanes the
+//   pass ran, 4 × its quads per covered pixel: shading = fixed + (full-screen − fixed) ×
+//   4 · quads / pixels, `fixed` the pass's attachment set's fixed cost (the same attachments,
+//   rendered once by both). Without a quad count the scale is 1 (each covered pixel once,
+//   still at most what the pass shades).
 // * memory: a buffer-to-buffer copy of --bandwidth-mib MiB gives the device's copy
 //   bandwidth (bytes read + written per second); a compute pass's bound is the bytes of the
 //   images and buffers it declares (each read once and written once) at that bandwidth.
 //
-// A pass's bound is the largest of these. Passes whose median is under 20 µs are listed as
-// dispatch-bound (launch and barrier cost, not their work). Arithmetic bounds are not
-// estimated: no pass declares its operation count.
+// A pass's bound is the largest of these: each is work the pass does, done alone. Passes whose
+// median is under 20 µs are listed as dispatch-bound (launch and barrier cost, not their
+// work). Arithmetic is bounded only where it was timed (the shading bound: the pass's own
+// lighting code on its own pixels); no pass declares its operation count.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -427,7 +436,13 @@ struct Row {
   double raster_ms = 0.0, memory_ms = 0.0, geometry_ms = 0.0;  // own work's bounds
   double mixed_ms = 0.0;
   double quads_ms = 0.0;  // the mixed bound with the passing samples' quads made whole
+  // The shading bound (fragment lighting passes: realtime/shading_bound.h), 0 if none.
+  double shading_ms = 0.0;
+  nlohmann::json shading;  // how it was made (JSON)
   std::vector<std::string> details;
+  double largest() const {
+    return std::max({raster_ms, memory_ms, geometry_ms, mixed_ms, quads_ms, shading_ms});
+  }
 };
 
 }  // namespace
@@ -585,6 +600,44 @@ int run_raster(SuiteArgs args) {
     return total;
   };
 
+  // The shading bound (realtime/shading_bound.h): the full-screen lighting's median, its
+  // per-pixel part scaled to the lanes the pass ran (4 × quads per covered pixel), its fixed
+  // part — the attachment set's, which the pass pays once too — not.
+  auto shading_bound = [&](const nlohmann::json& work, const std::string& file, Row* r) {
+    const nlohmann::json& sh = work["shading"];
+    const double full_screen = median(sh.at("runs_ms").get<std::vector<double>>());
+    const double pixels = sh.at("pixels").get<double>();
+    if (pixels <= 0.0 || full_screen <= 0.0) return;  // nothing on screen
+    const double quads = work.value("quads", -1.0), samples = work.value("quad_samples", -1.0);
+    // The pass (depth EQUAL after its pre-pass) passes at least one sample at each covered
+    // pixel; fewer means the bound shaded pixels the pass did not.
+    if (samples >= 0.0 && samples < pixels * (1.0 - 1e-3))
+      throw Error(fmt::format("{}: pass {}: the shading bound shaded {} pixels, the pass passed "
+                              "only {} samples",
+                              file, r->name, pixels, samples));
+    const double lanes = quads > 0.0 ? 4.0 * quads / pixels : 1.0;
+    double fixed = 0.0;
+    for (const auto& f : work.at("fills")) {
+      const gpu::RasterFill fill = fill_from_json(f, file);
+      if (!rejected(fill)) fixed = std::max(fixed, fixed_ms.at(fill.key()));
+    }
+    fixed = std::min(fixed, full_screen);
+    r->shading_ms = fixed + (full_screen - fixed) * lanes;
+    const double input_ms = sh.value("input_bytes", 0.0) / bytes_per_ms;
+    r->shading = {{"full_screen_ms", full_screen},
+                  {"runs_ms", sh.at("runs_ms")},
+                  {"pixels", pixels},
+                  {"lanes_per_pixel", lanes},
+                  {"fixed_ms", fixed},
+                  {"input_bytes", sh.value("input_bytes", 0.0)},
+                  {"input_ms", input_ms}};
+    r->details.push_back(
+        fmt::format("shading {:.4f} (full screen {:.4f} over {:.0f} pixels × {:.3f} lanes; its "
+                    "G-buffer reads {:.1f} MB, {:.4f} ms at copy bandwidth)",
+                    r->shading_ms, full_screen, pixels, lanes,
+                    sh.value("input_bytes", 0.0) * 1e-6, input_ms));
+  };
+
   nlohmann::json out_frames = nlohmann::json::array();
   for (size_t i = 0; i < frames.size(); ++i) {
     const nlohmann::json& fr = frames[i];
@@ -651,6 +704,8 @@ int run_raster(SuiteArgs args) {
                   ? fmt::format("{:.4g} triangles ({:.4g} rasterized)", triangles, raster)
                   : fmt::format("{:.4g} triangles", triangles));
         }
+        if (p["work"].contains("shading"))
+          shading_bound(p["work"], files[i], &r);
         const double bytes = p["work"].at("bytes").get<double>();
         if (bytes > 0.0) {
           r.memory_ms = bytes / bytes_per_ms;
@@ -664,8 +719,8 @@ int run_raster(SuiteArgs args) {
                 fr.value("height", 0), fr.value("technique", "?").c_str(),
                 fr.value("shadows", "?").c_str(), fr.value("frame_gpu_median_ms", 0.0),
                 fr.value("frames", 0));
-    std::printf("  %-22s %10s %10s %7s  %-9s %s\n", "pass", "median ms", "bound ms", "ratio",
-                "bound", "work");
+    std::printf("  %-22s %10s %10s %7s %16s  %-9s %s\n", "pass", "median ms", "bound ms", "ratio",
+                "shading bound ms", "bound", "work");
     nlohmann::json passes = nlohmann::json::array();
     for (size_t k = 0; k < rows.size(); ++k) {
       const Row& r = rows[k];
@@ -677,8 +732,9 @@ int run_raster(SuiteArgs args) {
       } else if (r.median_ms < kDispatchBoundMs) {
         kind = "dispatch";
       } else if (r.has_work) {
-        bound = std::max({r.raster_ms, r.memory_ms, r.geometry_ms, r.mixed_ms, r.quads_ms});
-        kind = bound == r.raster_ms     ? "raster"
+        bound = r.largest();
+        kind = bound == r.shading_ms    ? "shading"
+               : bound == r.raster_ms   ? "raster"
                : bound == r.geometry_ms ? "geometry"
                : bound == r.mixed_ms    ? "mixed"
                : bound == r.quads_ms    ? "quads"
@@ -689,8 +745,7 @@ int run_raster(SuiteArgs args) {
         bool any = false;
         for (size_t c = k + 1; c < rows.size() && rows[c].depth > r.depth; ++c)
           if (rows[c].depth == r.depth + 1 && rows[c].has_work) {
-            bound += std::max({rows[c].raster_ms, rows[c].memory_ms, rows[c].geometry_ms,
-                               rows[c].mixed_ms, rows[c].quads_ms});
+            bound += rows[c].largest();
             any = true;
           }
         if (any) {
@@ -700,9 +755,11 @@ int run_raster(SuiteArgs args) {
       }
       const double ratio = bound > 0.0 ? r.median_ms / bound : 0.0;
       const std::string label = std::string(2 * static_cast<size_t>(r.depth), ' ') + r.name;
-      std::printf("  %-22s %10.4f %10s %7s  %-9s %s\n", label.c_str(), r.median_ms,
+      std::printf("  %-22s %10.4f %10s %7s %16s  %-9s %s\n", label.c_str(), r.median_ms,
                   bound > 0.0 ? fmt::format("{:.4f}", bound).c_str() : "-",
-                  bound > 0.0 ? fmt::format("{:.2f}", ratio).c_str() : "-", kind.c_str(),
+                  bound > 0.0 ? fmt::format("{:.2f}", ratio).c_str() : "-",
+                  r.shading_ms > 0.0 ? fmt::format("{:.4f}", r.shading_ms).c_str() : "-",
+                  kind.c_str(),
                   fmt::format("{}", fmt::join(details, ", ")).c_str());
       nlohmann::json jp = {{"name", r.name},
                            {"depth", r.depth},
@@ -712,6 +769,10 @@ int run_raster(SuiteArgs args) {
       if (bound > 0.0) {
         jp["bound_ms"] = bound;
         jp["ratio"] = ratio;
+      }
+      if (r.shading_ms > 0.0) {
+        jp["shading_bound_ms"] = r.shading_ms;
+        jp["shading"] = r.shading;
       }
       passes.push_back(jp);
     }

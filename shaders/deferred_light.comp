@@ -14,15 +14,8 @@ void main() {
   if (depth >= 1.0) return;
   Surface s = gbuffer_surface(pixel, depth);
   vec3 v = normalize(frame.camera_pos.xyz - s.p);
-  int first = frame.counts.z >= 0 ? frame.counts.z : 0;
-  int last = frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;
-  vec3 sum = vec3(0.0);
-  vec2 frag = vec2(pixel) + 0.5;  // gl_FragCoord.xy of the fragment path (same PCF rotation)
-  for (int i = first; i < last; ++i) {
-    vec3 radiance, l;
-    if (!light_contribution(i, s, v, radiance, l)) continue;
-    sum += radiance * cube_shadow(i, s.p, s.ng, frag);
-  }
+  // gl_FragCoord.xy of the fragment path (same PCF rotation)
+  vec3 sum = direct_light(s, v, vec2(pixel) + 0.5);
   if (all(equal(sum, vec3(0.0)))) return;
   vec4 c = imageLoad(hdr_image, pixel);
   imageStore(hdr_image, pixel, vec4(c.rgb + sum, c.a));

@@ -19,14 +19,11 @@ void main() {
   // technique); 2 = only light push.light_index, no shadow-map lookup (stencil masks it).
   int mode = push.pad;
   vec3 color = mode == 2 ? vec3(0.0) : s.emission + ambient_term(s);
-  int first = mode == 2 ? push.light_index : frame.counts.z >= 0 ? frame.counts.z : 0;
-  int last = mode == 2 ? push.light_index + 1
-           : mode == 1 ? 0
-           : frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;
-  for (int i = first; i < last; ++i) {
+  if (mode == 0) {
+    color += direct_light(s, v, gl_FragCoord.xy);
+  } else if (mode == 2) {
     vec3 radiance, l;
-    if (!light_contribution(i, s, v, radiance, l)) continue;
-    color += radiance * (mode == 2 ? 1.0 : cube_shadow(i, s.p, s.ng, gl_FragCoord.xy));
+    if (light_contribution(push.light_index, s, v, radiance, l)) color += radiance;
   }
   out_color = vec4(color, 1.0);
 }

@@ -112,6 +112,22 @@ bool light_contribution(int i, Surface s, vec3 v, out vec3 radiance, out vec3 l)
   return true;
 }
 
+// The shadowed direct light of the frame's lights (all, or frame.counts.z alone) at surface s
+// seen along v: forward.frag's loop, the deferred compute lighting's and the shading bound's
+// (shading_bound.frag), so the three run the same per-pixel work. `frag`: the pixel's
+// gl_FragCoord.xy (it rotates the PCF taps).
+vec3 direct_light(Surface s, vec3 v, vec2 frag) {
+  int first = frame.counts.z >= 0 ? frame.counts.z : 0;
+  int last = frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;
+  vec3 sum = vec3(0.0);
+  for (int i = first; i < last; ++i) {
+    vec3 radiance, l;
+    if (!light_contribution(i, s, v, radiance, l)) continue;
+    sum += radiance * cube_shadow(i, s.p, s.ng, frag);
+  }
+  return sum;
+}
+
 // Ambient: PRT when shown, a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
 // scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
 // weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (sh.glsl,

@@ -154,6 +154,24 @@ void run_frame(const FrameArgs& args) {
       }
     }
 
+  // And the shading bound of the fragment lighting pass (forward): its lighting as one
+  // full-screen pass over a G-buffer of the same view, timed as often as the frames (3 to 50
+  // times), which `illum-bench raster` scales by the pass's quads.
+  realtime::ShadingTime shading;
+  const bool shading_measured =
+      !args.json.empty() && context.timestamps() &&
+      renderer.measure_shading(camera, std::clamp(args.frames, 3, 50), &shading);
+  if (shading_measured) {
+    auto w = work.find({shading.pass, 0});
+    if (w != work.end())
+      w->second["shading"] = {{"runs_ms", shading.runs_ms},
+                              {"median_ms", median(shading.runs_ms)},
+                              {"pixels", shading.pixels},
+                              {"input_bytes", shading.input_bytes},
+                              {"width", shading.width},
+                              {"height", shading.height}};
+  }
+
   std::printf(
       "illum frame: %s, %dx%d, %s, shadows %s, device '%s'%s, %d frame(s) after %d warm-up\n",
       scene.name.c_str(), settings.width, settings.height, settings.pipeline.c_str(),
@@ -178,6 +196,9 @@ void run_frame(const FrameArgs& args) {
   std::printf(
       "  %-16s %9.4f ms (GPU, sum of passes)\n  %-16s %9.4f ms (CPU wall, submit to fence)\n",
       "frame", median(gpu_total), "wall", median(wall));
+  if (shading_measured)
+    std::printf("  %-16s %9.4f ms (%s's lighting, full screen over %.0f covered pixels)\n",
+                "shading bound", median(shading.runs_ms), shading.pass.c_str(), shading.pixels);
   if (!args.json.empty()) {
     nlohmann::json out = {{"scene", scene.name},
                           {"width", settings.width},

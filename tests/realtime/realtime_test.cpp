@@ -28,30 +28,8 @@ constexpr int kSize = 128;
 
 class RealtimeTest : public test::ValidatedVulkanTest {};
 
-struct Agreement {
-  size_t compared = 0, within = 0;
-  double mean_rel = 0.0;
-};
-
-// The fraction of non-edge pixels whose RGB agree within `rel` relative error (against
-// max(reference, floor) so black pixels compare absolutely).
-Agreement compare(const Image& gpu, const Image& cpu, const std::vector<uint8_t>& edge, float rel,
-                  float floor) {
-  Agreement a;
-  for (int y = 0; y < cpu.height(); ++y)
-    for (int x = 0; x < cpu.width(); ++x) {
-      if (edge[static_cast<size_t>(y) * cpu.width() + x]) continue;
-      const Color g = gpu.rgb(x, y), c = cpu.rgb(x, y);
-      float worst = 0.0f;
-      for (int k = 0; k < 3; ++k)
-        worst = std::max(worst, std::abs(g[k] - c[k]) / std::max(c[k], floor));
-      ++a.compared;
-      a.within += worst <= rel ? 1 : 0;
-      a.mean_rel += worst;
-    }
-  a.mean_rel /= std::max<size_t>(1, a.compared);
-  return a;
-}
+using test::Agreement;
+using test::compare;
 
 TEST_F(RealtimeTest, ForwardDirectLightingMatchesCpuReference) {
   const Scene scene = test::cornell_point_light();
@@ -464,19 +442,8 @@ TEST_F(RealtimeTest, StencilShadowPassesAndRebuilds) {
 namespace illum::realtime {
 namespace {
 
-// 1 where a pixel or one of its 8 neighbours sees another surface of the reference (kSize²).
 std::vector<uint8_t> geometry_edges(const test::Reference& ref) {
-  std::vector<uint8_t> edge(static_cast<size_t>(kSize) * kSize, 0);
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = std::clamp(x + dx, 0, kSize - 1), yy = std::clamp(y + dy, 0, kSize - 1);
-          if (ref.surface[static_cast<size_t>(yy) * kSize + xx] !=
-              ref.surface[static_cast<size_t>(y) * kSize + x])
-            edge[static_cast<size_t>(y) * kSize + x] = 1;
-        }
-  return edge;
+  return test::geometry_edges(ref, kSize, kSize);
 }
 
 double mean_luminance(const Image& image) {

@@ -3,6 +3,7 @@
 // per-pixel direct lighting with exact shadow rays (Möller–Trumbore over every triangle).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -207,6 +208,46 @@ inline std::vector<uint8_t> edge_mask(const Reference& ref, int width, int heigh
         }
       edge[i] = e ? 1 : 0;
     }
+  return edge;
+}
+
+struct Agreement {
+  size_t compared = 0, within = 0;
+  double mean_rel = 0.0;
+};
+
+// The fraction of non-edge pixels whose RGB agree within `rel` relative error (against
+// max(reference, floor) so black pixels compare absolutely).
+inline Agreement compare(const Image& gpu, const Image& cpu, const std::vector<uint8_t>& edge,
+                         float rel, float floor) {
+  Agreement a;
+  for (int y = 0; y < cpu.height(); ++y)
+    for (int x = 0; x < cpu.width(); ++x) {
+      if (edge[static_cast<size_t>(y) * cpu.width() + x]) continue;
+      const Color g = gpu.rgb(x, y), c = cpu.rgb(x, y);
+      float worst = 0.0f;
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, std::abs(g[k] - c[k]) / std::max(c[k], floor));
+      ++a.compared;
+      a.within += worst <= rel ? 1 : 0;
+      a.mean_rel += worst;
+    }
+  a.mean_rel /= std::max<size_t>(1, a.compared);
+  return a;
+}
+
+// 1 where a pixel or one of its 8 neighbours sees another surface of the reference.
+inline std::vector<uint8_t> geometry_edges(const Reference& ref, int width, int height) {
+  std::vector<uint8_t> edge(static_cast<size_t>(width) * height, 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = std::clamp(x + dx, 0, width - 1), yy = std::clamp(y + dy, 0, height - 1);
+          if (ref.surface[static_cast<size_t>(yy) * width + xx] !=
+              ref.surface[static_cast<size_t>(y) * width + x])
+            edge[static_cast<size_t>(y) * width + x] = 1;
+        }
   return edge;
 }
 

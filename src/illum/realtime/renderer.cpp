@@ -338,6 +338,13 @@ const std::vector<gpu::PassTime>& Renderer::measure_work(const Camera& camera) {
   return impl_->times;
 }
 
+bool Renderer::measure_shading(const Camera& camera, int repeats, ShadingTime* out,
+                               Image* image) {
+  check_camera(camera);
+  impl_->render(camera);
+  return impl_->tctx.pipeline().measure_shading(repeats, out, image);
+}
+
 std::vector<std::string> Renderer::pass_order() const {
   return impl_->graph->order();
 }

@@ -23,6 +23,10 @@
 #include "illum/core/color.h"
 #include "illum/realtime/frame_graph.h"
 
+namespace illum {
+class Image;
+}
+
 namespace illum::realtime {
 
 enum class TechniqueKind { kGlobal, kFramePipeline, kShadowMethod, kAddOn };
@@ -75,6 +79,7 @@ ParamDecl enum_param(const std::string& key, const std::string& fallback,
 
 class Technique;
 class TechniqueContext;
+struct ShadingTime;
 
 struct TechniqueDecl {
   std::string name;
@@ -136,6 +141,12 @@ class FramePipeline : public Technique {
   virtual void record_masked_light(PassContext& pass, int light) = 0;
   // What record_masked_light() reads besides the depth test and the HDR target.
   virtual std::vector<Access> masked_light_reads() const { return {}; }
+  // After a frame: the shading bound of the pipeline's fragment lighting pass
+  // (shading_bound.h), timed `repeats` times, and with `image` its output. False where the
+  // pipeline has no such pass (its lighting is compute, or the stencil masks each light).
+  virtual bool measure_shading(int /*repeats*/, ShadingTime* /*out*/, Image* /*image*/) {
+    return false;
+  }
 };
 
 // The shadow method (none, map, vsm, volume).

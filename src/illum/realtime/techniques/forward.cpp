@@ -5,6 +5,7 @@
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
 #include "illum/realtime/scene_draw.h"
+#include "illum/realtime/shading_bound.h"
 #include "illum/realtime/stencil_shadows.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"
@@ -107,6 +108,13 @@ class Forward final : public FramePipeline {
     graph.add_pass(std::move(p));
   }
 
+  bool measure_shading(int repeats, ShadingTime* out, Image* image) override {
+    if (masked_) return false;  // the shading pass writes emission + ambient only
+    if (!shading_bound_) shading_bound_ = std::make_unique<ShadingBound>(ctx_);
+    *out = shading_bound_->measure(repeats, image);
+    return true;
+  }
+
   void record_masked_light(PassContext& pass, int light) override {
     SceneView view = SceneView::camera(ctx_.view().view_proj, false);
     view.light_index = light;
@@ -120,6 +128,7 @@ class Forward final : public FramePipeline {
   bool masked_ = false;
   gpu::Pipeline prepass_, shade_, masked_light_;
   CountingPipelines prepass_count_, shade_count_;
+  std::unique_ptr<ShadingBound> shading_bound_;  // built on the first measure_shading()
 };
 
 }  // namespace
