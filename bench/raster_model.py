@@ -5,8 +5,9 @@ attachment set (one trivial full-screen layer's time minus the per-layer slope) 
 slope times its passing layers, rejected fragments at the slope of a rejected layer;
 geometry (rasterized triangles x the setup time, the rest x the culled-triangle time);
 mixed (the measured trivial passes of `mixed_bounds`, one per rendering, plus the culled
-triangles and the rejected fragments); memory (bytes / copy bandwidth); a pass's bound is
-the largest. Needs no GPU.
+triangles and the rejected fragments); memory (bytes / copy bandwidth); shading (the timed
+full-screen lighting of `work.shading`, its part above the attachment set's fixed cost
+scaled by 4 x quads / covered pixels); a pass's bound is the largest. Needs no GPU.
 
     bench/raster_model.py RASTER.json FRAME.json... > table.txt
 """
@@ -74,8 +75,16 @@ def main():
                     each = min(max(round(rasterized * c / layers / n), 1), 16777216)
                     mix += n * mixed[(key, each, round(c / n, 4))]
             mem = w.get("bytes", 0.0) / bytes_per_ms
-            bound = max(ras, geo, mix, mem)
-            binds = ("raster" if bound == ras and ras > 0 else "geometry" if bound == geo and geo > 0
+            shade = 0.0
+            sh = w.get("shading")
+            if sh and sh["pixels"] > 0:
+                full = statistics.median(sh["runs_ms"])
+                lanes = 4.0 * w["quads"] / sh["pixels"] if w.get("quads", -1) > 0 else 1.0
+                set_fixed = min(full, max([fixed[k] for k in renderings] or [0.0]))
+                shade = set_fixed + (full - set_fixed) * lanes
+            bound = max(ras, geo, mix, mem, shade)
+            binds = ("shading" if bound == shade and shade > 0
+                     else "raster" if bound == ras and ras > 0 else "geometry" if bound == geo and geo > 0
                      else "mixed" if bound == mix and mix > 0 else "memory" if mem > 0 else "none")
             ratio = f"{med / bound:6.2f}" if bound > 0 else f"{'-':>6}"
             print(f"  {p['name']:<22} {med:8.4f} {bound:8.4f} {ratio}  {binds:<9} {layers:.2f}")

@@ -2,8 +2,8 @@
 # ctest illum_bench.raster_smoke: tiny lavapipe frames of every frame pipeline with shadow
 # maps, and of the deferred pipeline with stencil volumes, through `illum-bench raster`,
 # validation on. Fails when a row is missing, a pass with work has no bound or ratio, the
-# passing and rejected fragments or the volumes' z-fail fragments were not counted, or
-# anything was validated.
+# passing and rejected fragments or the volumes' z-fail fragments were not counted, the
+# forward pass has no shading bound or it is scaled wrongly, or anything was validated.
 #   raster_smoke.sh ILLUM ILLUM_BENCH OUTDIR
 set -eu
 illum=$1 bench=$2 out=$3
@@ -42,6 +42,35 @@ for p in fr["passes"]:
         p["work"]["quad_samples"] = 1.5 * 48 * 32 - 7
 json.dump(fr, open(sys.argv[2].replace("synthetic", "mismatch"), "w"))
 PY
+# The shading bound's scaling on a synthetic copy of the forward frame: a full-screen lighting
+# of 2 ms over all 1536 pixels, 576 quads (1.5 lanes a pixel) and one passing layer of the
+# forward pass's attachments (so its fixed cost f is measured): 2 ms scales to f + (2 − f) × 1.5.
+# A copy whose bound shaded more pixels than the pass passed samples must be refused.
+python3 - "$out/forward-map.json" "$out/shading.json" <<'PY'
+import copy, json, sys
+fr = json.load(open(sys.argv[1]))
+fr["technique"] = "synthetic-shading"
+for p in fr["passes"]:
+    if p["name"] == "forward":
+        w = p["work"]
+        assert "shading" in w, w
+        passing = copy.deepcopy(w["fills"][0])
+        passing["depth"], passing["count"] = 2, 1.0
+        w["fills"].append(passing)
+        w["quads"], w["quad_samples"] = 576.0, 1536.0
+        w["shading"].update(runs_ms=[2.0, 2.0, 2.0], pixels=1536.0, input_bytes=32.0 * 1536)
+json.dump(fr, open(sys.argv[2], "w"))
+for p in fr["passes"]:
+    if p["name"] == "forward":
+        p["work"]["shading"]["pixels"] = 2000.0
+json.dump(fr, open(sys.argv[2].replace("shading", "overshaded"), "w"))
+PY
+mv "$out/overshaded.json" "$out/overshaded.json.bad"
+if "$bench" raster "$out/overshaded.json.bad" --repeats 1 --bandwidth-mib 1 > "$out/overshaded.txt" 2>&1; then
+  echo "illum-bench raster accepted a shading bound over more pixels than the pass shaded" >&2
+  exit 1
+fi
+grep -q "the shading bound shaded 2000 pixels, the pass passed only 1536 samples" "$out/overshaded.txt"
 mv "$out/mismatch.json" "$out/mismatch.json.bad"
 if "$bench" raster "$out/mismatch.json.bad" --repeats 1 --bandwidth-mib 1 > "$out/mismatch.txt" 2>&1; then
   echo "illum-bench raster accepted a quad count that disagrees with the occlusion query" >&2
@@ -99,7 +128,8 @@ for n in ["forward-map", "deferred-map", "deferred-volume", "visibility-map"]:
                 assert "rasterized_triangles" not in w, (n, p)
             else:
                 assert w["rasterized_triangles"] > 0 and w["triangles"] > 0, (n, p)
-grids = d["mixed_bounds"]
+# (The synthetic-shading frame's passing layer adds grids of its own, on the forward pass's set.)
+grids = [g for g in d["mixed_bounds"] if g["key"].replace("d24s8", "d32s8") == "48x32 d32s8 write"]
 assert [(g["triangles"], g["layers"]) for g in grids] == [(200, 1.5), (200, 1.875)], grids
 assert grids[0]["ms"] > 0 and grids[1]["ms"] > 0, grids
 syn = {p["name"]: p for p in names["synthetic/map"]}
@@ -107,5 +137,18 @@ assert any(w.startswith("mixed ") for w in syn["depth_prepass"]["work"]), syn["d
 assert any(w.startswith("quads ") and "720 quads, 1.250×" in w
            for w in syn["depth_prepass"]["work"]), syn["depth_prepass"]
 assert syn["depth_prepass"]["bound_ms"] >= grids[1]["ms"], syn["depth_prepass"]
+# The shading bound: measured for the forward pass (its lighting over the same view), part of
+# its bound, its G-buffer reads priced; scaled by 4 × quads / pixels above the fixed cost.
+fwd = {p["name"]: p for p in names["forward/map"]}["forward"]
+assert fwd["shading_bound_ms"] > 0 and fwd["bound_ms"] >= fwd["shading_bound_ms"], fwd
+assert fwd["shading"]["pixels"] > 0 and fwd["shading"]["input_ms"] > 0, fwd
+for run in names:
+    if not run.startswith("forward") and not run.startswith("synthetic-shading"):
+        assert all("shading_bound_ms" not in p for p in names[run]), run
+syn = {p["name"]: p for p in names["synthetic-shading/map"]}["forward"]
+fixed = {b["key"]: b["fixed_ms"] for b in d["raster_bounds"]}["48x32 rgba16f+d32s8 test"]
+want = fixed + (2.0 - fixed) * 1.5
+assert abs(syn["shading_bound_ms"] - want) < 1e-9, (syn["shading_bound_ms"], want, fixed)
+assert syn["shading"]["lanes_per_pixel"] == 1.5 and syn["bound"] == "shading", syn
 print("raster smoke ok:", len(keys), "bounds,", sum(len(v) for v in names.values()), "passes")
 PY

@@ -51,49 +51,57 @@ RenderSettings settings(const std::string& pipeline) {
 // 99 % of the pixels off geometry edges). Background pixels are zero in all three (the
 // bound's depth test skips them), and the bound shades exactly the covered pixels.
 TEST_F(ShadingBoundTest, FullScreenLightingImageIsTheForwardImage) {
-  const Scene scene = two_lights();
-  Renderer forward_renderer(context(), scene, settings("forward"));
-  forward_renderer.render(*scene.camera);
-  const Image forward = forward_renderer.hdr();
-  ShadingTime time;
-  Image bound;
-  ASSERT_TRUE(forward_renderer.measure_shading(*scene.camera, 2, &time, &bound));
-  EXPECT_EQ(time.pass, "forward");
-  EXPECT_EQ(time.runs_ms.size(), 2u);
-  Renderer deferred_renderer(context(), scene, settings("deferred"));
-  deferred_renderer.render(*scene.camera);
-  const Image deferred = deferred_renderer.hdr();
-  ShadingTime none;
-  EXPECT_FALSE(deferred_renderer.measure_shading(*scene.camera, 1, &none))
-      << "the deferred lighting is compute: no fragment lighting pass to bound";
+  // The scene's camera (the box fills the view) and one pulled back (background around it).
+  Scene scene = two_lights();
+  Camera far = *scene.camera;
+  far.position = vec3(0.5f, 0.5f, 4.0f);
+  for (const Camera& camera : {*scene.camera, far}) {
+    scene.camera = camera;
+    Renderer forward_renderer(context(), scene, settings("forward"));
+    forward_renderer.render(camera);
+    const Image forward = forward_renderer.hdr();
+    ShadingTime time;
+    Image bound;
+    ASSERT_TRUE(forward_renderer.measure_shading(camera, 2, &time, &bound));
+    EXPECT_EQ(time.pass, "forward");
+    EXPECT_EQ(time.runs_ms.size(), 2u);
+    Renderer deferred_renderer(context(), scene, settings("deferred"));
+    deferred_renderer.render(camera);
+    const Image deferred = deferred_renderer.hdr();
+    ShadingTime none;
+    EXPECT_FALSE(deferred_renderer.measure_shading(camera, 1, &none))
+        << "the deferred lighting is compute: no fragment lighting pass to bound";
 
-  const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
-  size_t covered = 0;
-  for (int s : ref.surface) covered += s >= 0 ? 1 : 0;
-  double mean = 0.0;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
-  mean /= kSize * kSize;
-  ASSERT_GT(mean, 0.0);
-  // The rasterizer and the reference's rays may disagree on the pixels at the box's outline.
-  const double outline = 4.0 * kSize;
-  std::printf("shading bound: %.0f covered pixels (the reference: %zu)\n", time.pixels, covered);
-  EXPECT_NEAR(time.pixels, static_cast<double>(covered), outline);
-  EXPECT_DOUBLE_EQ(time.input_bytes, 32.0 * time.pixels);
+    const test::Reference ref = test::direct_lighting_reference(scene, kSize, kSize);
+    size_t covered = 0;
+    for (int s : ref.surface) covered += s >= 0 ? 1 : 0;
+    double mean = 0.0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) mean += luminance(forward.rgb(x, y));
+    mean /= kSize * kSize;
+    ASSERT_GT(mean, 0.0);
+    // The rasterizer and the reference's rays may disagree on the pixels of the box's outline
+    // (at most its perimeter, 4 × kSize).
+    std::printf("shading bound: %.0f covered pixels (the reference: %zu)\n", time.pixels,
+                covered);
+    EXPECT_NEAR(time.pixels, static_cast<double>(covered), 4.0 * kSize);
+    EXPECT_DOUBLE_EQ(time.input_bytes, 32.0 * time.pixels);
 
-  const std::vector<uint8_t> everywhere(static_cast<size_t>(kSize) * kSize, 0);
-  const float fp16 = 1.0f / 1024.0f, bound_rel = 0.01f;
-  const test::Agreement d =
-      test::compare(bound, deferred, everywhere, fp16, fp16 * static_cast<float>(mean));
-  const test::Agreement f = test::compare(bound, forward, test::geometry_edges(ref, kSize, kSize),
-                                          bound_rel, bound_rel * static_cast<float>(mean));
-  std::printf(
-      "shading bound vs deferred: %.4f of %zu pixels within 2^-10 (mean rel %.6f); vs forward: "
-      "%.4f of %zu within 1%% (mean rel %.5f)\n",
-      static_cast<double>(d.within) / d.compared, d.compared, d.mean_rel,
-      static_cast<double>(f.within) / f.compared, f.compared, f.mean_rel);
-  EXPECT_EQ(d.within, d.compared) << "vs deferred";
-  EXPECT_GE(static_cast<double>(f.within) / f.compared, 0.99) << "vs forward";
+    const std::vector<uint8_t> everywhere(static_cast<size_t>(kSize) * kSize, 0);
+    const float fp16 = 1.0f / 1024.0f, bound_rel = 0.01f;
+    const test::Agreement d =
+        test::compare(bound, deferred, everywhere, fp16, fp16 * static_cast<float>(mean));
+    const test::Agreement f =
+        test::compare(bound, forward, test::geometry_edges(ref, kSize, kSize), bound_rel,
+                      bound_rel * static_cast<float>(mean));
+    std::printf(
+        "shading bound vs deferred: %.4f of %zu pixels within 2^-10 (mean rel %.6f); vs "
+        "forward: %.4f of %zu within 1%% (mean rel %.5f)\n",
+        static_cast<double>(d.within) / d.compared, d.compared, d.mean_rel,
+        static_cast<double>(f.within) / f.compared, f.compared, f.mean_rel);
+    EXPECT_EQ(d.within, d.compared) << "vs deferred";
+    EXPECT_GE(static_cast<double>(f.within) / f.compared, 0.99) << "vs forward";
+  }
 }
 
 // More lights, more lighting work: with 8 shadowed point lights (no range: each lights every
