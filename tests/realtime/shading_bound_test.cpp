@@ -105,8 +105,10 @@ TEST_F(ShadingBoundTest, FullScreenLightingImageIsTheForwardImage) {
 }
 
 // More lights, more lighting work: with 8 shadowed point lights (no range: each lights every
-// pixel) the per-pixel work is the one light's loop body 8 times over one G-buffer decode,
-// so the bound must grow by well over 2× — a constant (or light-blind) bound fails.
+// pixel) the per-pixel work is the one light's loop body (16 PCF taps of a cube map) 8 times
+// over one G-buffer decode: on lavapipe at 256² the bound grows 4.3–4.7× (printed). A bound
+// that skips the lights stays constant up to timing noise, which reached 2.06× at 128² with 5
+// runs and 1.05–1.30× at 256² with 9: hence 256², the median of 9 and a 3× threshold.
 TEST_F(ShadingBoundTest, GrowsWithTheLights) {
   auto median_ms = [](int lights) {
     Scene scene = test::cornell_point_light();
@@ -120,9 +122,10 @@ TEST_F(ShadingBoundTest, GrowsWithTheLights) {
     }
     RenderSettings o = settings("forward");
     o.set("map.resolution", 64);
+    o.width = o.height = 2 * kSize;
     Renderer renderer(context(), scene, o);
     ShadingTime t;
-    EXPECT_TRUE(renderer.measure_shading(*scene.camera, 5, &t));
+    EXPECT_TRUE(renderer.measure_shading(*scene.camera, 9, &t));
     std::vector<double> runs = t.runs_ms;
     std::nth_element(runs.begin(), runs.begin() + runs.size() / 2, runs.end());
     return runs[runs.size() / 2];
@@ -130,7 +133,7 @@ TEST_F(ShadingBoundTest, GrowsWithTheLights) {
   const double one = median_ms(1), eight = median_ms(8);
   std::printf("shading bound: %.4f ms with 1 light, %.4f ms with 8 (%.2f×)\n", one, eight,
               eight / one);
-  EXPECT_GT(eight, 2.0 * one);
+  EXPECT_GT(eight, 3.0 * one);
 }
 
 }  // namespace
