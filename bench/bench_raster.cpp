@@ -612,9 +612,10 @@ int run_raster(SuiteArgs args) {
     // The pass (depth EQUAL after its pre-pass) passes at least one sample at each covered
     // pixel; fewer means the bound shaded pixels the pass did not.
     if (samples >= 0.0 && samples < pixels * (1.0 - 1e-3))
-      throw Error(fmt::format("{}: pass {}: the shading bound shaded {} pixels, the pass passed "
-                              "only {} samples",
-                              file, r->name, pixels, samples));
+      throw Error(
+          fmt::format("{}: pass {}: the shading bound shaded {} pixels, the pass passed "
+                      "only {} samples",
+                      file, r->name, pixels, samples));
     const double lanes = quads > 0.0 ? 4.0 * quads / pixels : 1.0;
     double fixed = 0.0;
     for (const auto& f : work.at("fills")) {
@@ -631,11 +632,10 @@ int run_raster(SuiteArgs args) {
                   {"fixed_ms", fixed},
                   {"input_bytes", sh.value("input_bytes", 0.0)},
                   {"input_ms", input_ms}};
-    r->details.push_back(
-        fmt::format("shading {:.4f} (full screen {:.4f} over {:.0f} pixels × {:.3f} lanes; its "
-                    "G-buffer reads {:.1f} MB, {:.4f} ms at copy bandwidth)",
-                    r->shading_ms, full_screen, pixels, lanes,
-                    sh.value("input_bytes", 0.0) * 1e-6, input_ms));
+    r->details.push_back(fmt::format(
+        "shading {:.4f} (full screen {:.4f} over {:.0f} pixels × {:.3f} lanes; its "
+        "G-buffer reads {:.1f} MB, {:.4f} ms at copy bandwidth)",
+        r->shading_ms, full_screen, pixels, lanes, sh.value("input_bytes", 0.0) * 1e-6, input_ms));
   };
 
   nlohmann::json out_frames = nlohmann::json::array();
@@ -704,8 +704,7 @@ int run_raster(SuiteArgs args) {
                   ? fmt::format("{:.4g} triangles ({:.4g} rasterized)", triangles, raster)
                   : fmt::format("{:.4g} triangles", triangles));
         }
-        if (p["work"].contains("shading"))
-          shading_bound(p["work"], files[i], &r);
+        if (p["work"].contains("shading")) shading_bound(p["work"], files[i], &r);
         const double bytes = p["work"].at("bytes").get<double>();
         if (bytes > 0.0) {
           r.memory_ms = bytes / bytes_per_ms;
@@ -759,8 +758,7 @@ int run_raster(SuiteArgs args) {
                   bound > 0.0 ? fmt::format("{:.4f}", bound).c_str() : "-",
                   bound > 0.0 ? fmt::format("{:.2f}", ratio).c_str() : "-",
                   r.shading_ms > 0.0 ? fmt::format("{:.4f}", r.shading_ms).c_str() : "-",
-                  kind.c_str(),
-                  fmt::format("{}", fmt::join(details, ", ")).c_str());
+                  kind.c_str(), fmt::format("{}", fmt::join(details, ", ")).c_str());
       nlohmann::json jp = {{"name", r.name},
                            {"depth", r.depth},
                            {"median_ms", r.median_ms},

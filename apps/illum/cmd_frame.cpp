@@ -164,12 +164,9 @@ void run_frame(const FrameArgs& args) {
   if (shading_measured) {
     auto w = work.find({shading.pass, 0});
     if (w != work.end())
-      w->second["shading"] = {{"runs_ms", shading.runs_ms},
-                              {"median_ms", median(shading.runs_ms)},
-                              {"pixels", shading.pixels},
-                              {"input_bytes", shading.input_bytes},
-                              {"width", shading.width},
-                              {"height", shading.height}};
+      w->second["shading"] = {{"runs_ms", shading.runs_ms}, {"median_ms", median(shading.runs_ms)},
+                              {"pixels", shading.pixels},   {"input_bytes", shading.input_bytes},
+                              {"width", shading.width},     {"height", shading.height}};
   }
 
   std::printf(

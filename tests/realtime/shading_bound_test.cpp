@@ -82,8 +82,7 @@ TEST_F(ShadingBoundTest, FullScreenLightingImageIsTheForwardImage) {
     ASSERT_GT(mean, 0.0);
     // The rasterizer and the reference's rays may disagree on the pixels of the box's outline
     // (at most its perimeter, 4 × kSize).
-    std::printf("shading bound: %.0f covered pixels (the reference: %zu)\n", time.pixels,
-                covered);
+    std::printf("shading bound: %.0f covered pixels (the reference: %zu)\n", time.pixels, covered);
     EXPECT_NEAR(time.pixels, static_cast<double>(covered), 4.0 * kSize);
     EXPECT_DOUBLE_EQ(time.input_bytes, 32.0 * time.pixels);
 
@@ -91,9 +90,8 @@ TEST_F(ShadingBoundTest, FullScreenLightingImageIsTheForwardImage) {
     const float fp16 = 1.0f / 1024.0f, bound_rel = 0.01f;
     const test::Agreement d =
         test::compare(bound, deferred, everywhere, fp16, fp16 * static_cast<float>(mean));
-    const test::Agreement f =
-        test::compare(bound, forward, test::geometry_edges(ref, kSize, kSize), bound_rel,
-                      bound_rel * static_cast<float>(mean));
+    const test::Agreement f = test::compare(bound, forward, test::geometry_edges(ref, kSize, kSize),
+                                            bound_rel, bound_rel * static_cast<float>(mean));
     std::printf(
         "shading bound vs deferred: %.4f of %zu pixels within 2^-10 (mean rel %.6f); vs "
         "forward: %.4f of %zu within 1%% (mean rel %.5f)\n",

@@ -338,8 +338,7 @@ const std::vector<gpu::PassTime>& Renderer::measure_work(const Camera& camera) {
   return impl_->times;
 }
 
-bool Renderer::measure_shading(const Camera& camera, int repeats, ShadingTime* out,
-                               Image* image) {
+bool Renderer::measure_shading(const Camera& camera, int repeats, ShadingTime* out, Image* image) {
   check_camera(camera);
   impl_->render(camera);
   return impl_->tctx.pipeline().measure_shading(repeats, out, image);

@@ -54,8 +54,7 @@ class Renderer {
   // Renders one more frame, then the shading bound of the pipeline's fragment lighting pass
   // (shading_bound.h: that lighting over a G-buffer of the same view, one full-screen pass
   // timed `repeats` times; `image`: its output). False where the pipeline has none.
-  bool measure_shading(const Camera& camera, int repeats, ShadingTime* out,
-                       Image* image = nullptr);
+  bool measure_shading(const Camera& camera, int repeats, ShadingTime* out, Image* image = nullptr);
 
   Image hdr();  // linear radiance, RGBA
   // The log-average luminance of the last frame's HDR image as the GPU computed it for

@@ -15,7 +15,8 @@ namespace illum::realtime {
 
 namespace {
 
-constexpr VkImageLayout kReadOnlyDepthLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL;
+constexpr VkImageLayout kReadOnlyDepthLayout =
+    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL;
 constexpr VkPipelineStageFlags2 kTests =
     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
 // Albedo + exponent, both normals, specular + type, emission + ambient, depth: per pixel.
@@ -27,8 +28,8 @@ ShadingBound::ShadingBound(TechniqueContext& ctx) : ctx_(ctx), descriptors_(ctx.
   using B = gpu::DescriptorBinding;
   const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   // shaders/gbuffer.glsl's bindings 0–3, and the emission + ambient at 4 (shading_bound.frag).
-  set_layout_ = gpu::DescriptorSetLayout(
-      ctx.gpu, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis}, B{4, cis}});
+  set_layout_ =
+      gpu::DescriptorSetLayout(ctx.gpu, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis}, B{4, cis}});
   layout_ = ctx.globals.shading_layout(set_layout_.handle());
   // The deferred pipeline's G-buffer pass (techniques/deferred.cpp): a depth pre-pass, then
   // gbuffer.frag with depth EQUAL, from forward.vert like the forward pass, so the depths are
@@ -82,8 +83,8 @@ void ShadingBound::realize() {
     gbuffer_targets_.push_back(target(f, sampled_target));
   depth_ = target(ctx_.depth_format,
                   VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-  output_ = target(kHdrFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  output_ =
+      target(kHdrFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   if (!set_) set_ = descriptors_.allocate(set_layout_);
   const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   const auto ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
@@ -138,8 +139,7 @@ ShadingTime ShadingBound::measure(int repeats, Image* image) {
     // compiles the pipeline's shaders again outside the query: 0.8 s), then the timed ones,
     // each after the last as a frame's passes into one target are.
     for (int r = 0; r < repeats + 2; ++r) {
-      output_.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, color_stage,
-                         color_access);
+      output_.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, color_stage, color_access);
       VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
       color.imageView = output_.view();
       color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
@@ -167,8 +167,7 @@ ShadingTime ShadingBound::measure(int repeats, Image* image) {
       vkCmdSetViewport(cmd, 0, 1, &vp);
       vkCmdSetScissor(cmd, 0, 1, &scissor);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lighting_.handle());
-      bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.handle(), ctx_.globals,
-                        sets);
+      bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.handle(), ctx_.globals, sets);
       const PushConstants push{};
       vkCmdPushConstants(cmd, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
       vkCmdDraw(cmd, 3, 1, 0, 0);
@@ -184,8 +183,8 @@ ShadingTime ShadingBound::measure(int repeats, Image* image) {
   for (const gpu::PassTime& p : timer.resolve()) out.runs_ms.push_back(p.ms);
   uint64_t samples = 0;
   const VkResult got =
-      vkGetQueryPoolResults(gpu.device(), covered, 0, 1, sizeof(samples), &samples,
-                            sizeof(samples), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+      vkGetQueryPoolResults(gpu.device(), covered, 0, 1, sizeof(samples), &samples, sizeof(samples),
+                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
   vkDestroyQueryPool(gpu.device(), covered, nullptr);
   ILLUM_VK(got);
   out.pixels = static_cast<double>(samples);
