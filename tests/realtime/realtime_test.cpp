@@ -532,13 +532,7 @@ TEST_F(RealtimeTest, AreaLightMatchesExactIrradianceFarFromTheEmitter) {
 }
 
 TEST_F(RealtimeTest, DeferredMatchesForward) {
-  Scene scene = test::cornell_point_light();
-  Light second;
-  second.type = LightType::kPoint;
-  second.position = vec3(0.8f, 0.5f, 0.8f);
-  second.intensity = Color(0.2f, 0.3f, 0.5f);
-  second.range = 0.6f;  // exercises the light-volume path and the radius window
-  scene.lights.push_back(second);
+  const Scene scene = test::cornell_two_point_lights();
   auto render = [&](const std::string& t, const std::string& lighting = "compute",
                     const std::string& shadows = "map") {
     RenderSettings o;
@@ -592,13 +586,7 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
 // resolve's analytic LOD is checked by RealtimeLighting's textured cases against the CPU
 // reference.
 TEST_F(RealtimeTest, VisibilityMatchesForwardAndDeferred) {
-  Scene scene = test::cornell_point_light();
-  Light second;
-  second.type = LightType::kPoint;
-  second.position = vec3(0.8f, 0.5f, 0.8f);
-  second.intensity = Color(0.2f, 0.3f, 0.5f);
-  second.range = 0.6f;
-  scene.lights.push_back(second);
+  const Scene scene = test::cornell_two_point_lights();
   auto render = [&](const std::string& t) {
     RenderSettings o;
     o.width = o.height = kSize;

@@ -21,18 +21,6 @@ constexpr int kSize = 128;
 
 class ShadingBoundTest : public test::ValidatedVulkanTest {};
 
-// DeferredMatchesForward's scene: the Cornell box with a second, ranged point light.
-Scene two_lights() {
-  Scene scene = test::cornell_point_light();
-  Light second;
-  second.type = LightType::kPoint;
-  second.position = vec3(0.8f, 0.5f, 0.8f);
-  second.intensity = Color(0.2f, 0.3f, 0.5f);
-  second.range = 0.6f;
-  scene.lights.push_back(second);
-  return scene;
-}
-
 RenderSettings settings(const std::string& pipeline) {
   RenderSettings o;
   o.width = o.height = kSize;
@@ -52,7 +40,7 @@ RenderSettings settings(const std::string& pipeline) {
 // bound's depth test skips them), and the bound shades exactly the covered pixels.
 TEST_F(ShadingBoundTest, FullScreenLightingImageIsTheForwardImage) {
   // The scene's camera (the box fills the view) and one pulled back (background around it).
-  Scene scene = two_lights();
+  Scene scene = test::cornell_two_point_lights();
   Camera far = *scene.camera;
   far.position = vec3(0.5f, 0.5f, 4.0f);
   for (const Camera& camera : {*scene.camera, far}) {

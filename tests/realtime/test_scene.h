@@ -93,6 +93,19 @@ inline Scene cornell_point_light() {
   return s;
 }
 
+// cornell_point_light() with a second, dimmer point light whose range (0.6) ends inside the
+// box: the light-volume path and the radius window are exercised.
+inline Scene cornell_two_point_lights() {
+  Scene s = cornell_point_light();
+  Light second;
+  second.type = LightType::kPoint;
+  second.position = vec3(0.8f, 0.5f, 0.8f);
+  second.intensity = Color(0.2f, 0.3f, 0.5f);
+  second.range = 0.6f;
+  s.lights.push_back(second);
+  return s;
+}
+
 struct Triangle {
   vec3 a, b, c;
   int material;

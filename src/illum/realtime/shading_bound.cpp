@@ -34,13 +34,7 @@ ShadingBound::ShadingBound(TechniqueContext& ctx) : ctx_(ctx), descriptors_(ctx.
   // The deferred pipeline's G-buffer pass (techniques/deferred.cpp): a depth pre-pass, then
   // gbuffer.frag with depth EQUAL, from forward.vert like the forward pass, so the depths are
   // the forward pass's.
-  gpu::GraphicsPipelineDesc g;
-  g.vertex_shader = "forward.vert";
-  g.fragment_shader = "gbuffer.frag";
-  g.vertex_input = mesh_vertex_input(false);
-  g.cull = VK_CULL_MODE_NONE;
-  g.color_formats = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
-  g.depth_format = g.stencil_format = ctx.depth_format;
+  gpu::GraphicsPipelineDesc g = gbuffer_pass_desc(ctx.depth_format);
   gpu::GraphicsPipelineDesc pre = g;
   pre.fragment_shader = "";
   pre.color_write = false;

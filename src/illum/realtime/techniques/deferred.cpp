@@ -67,14 +67,7 @@ class Deferred final : public FramePipeline {
     set_ = descriptors_.allocate(set_layout_);
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
     const VkPipelineLayout layout = layout_.handle();
-    gpu::GraphicsPipelineDesc g;
-    g.vertex_shader = "forward.vert";
-    g.fragment_shader = "gbuffer.frag";
-    g.vertex_input = mesh_vertex_input(false);
-    g.cull = VK_CULL_MODE_NONE;
-    g.color_formats = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
-    g.depth_format = ctx.depth_format;
-    g.stencil_format = ctx.depth_format;
+    gpu::GraphicsPipelineDesc g = gbuffer_pass_desc(ctx.depth_format);
     // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
     gpu::GraphicsPipelineDesc pre = g;
     pre.fragment_shader = "";

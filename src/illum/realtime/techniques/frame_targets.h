@@ -3,7 +3,9 @@
 // (Renderer::hdr(), tests) and the HDR target is sampled by the post-processing add-ons.
 #pragma once
 
+#include "illum/gpu/pipeline.h"
 #include "illum/realtime/frame_graph.h"
+#include "illum/realtime/scene_draw.h"
 
 namespace illum::realtime {
 
@@ -18,6 +20,21 @@ inline constexpr VkFormat kSpecularFormat = VK_FORMAT_R8G8B8A8_UNORM;     // ks,
 inline constexpr const char* kGbufferTargets[3] = {"gbuffer.albedo", "gbuffer.normal",
                                                    "gbuffer.specular"};
 inline constexpr VkFormat kGbufferFormats[3] = {kAlbedoFormat, kNormalFormat, kSpecularFormat};
+
+// The G-buffer pass's pipeline (the deferred pipeline's, and the shading bound's G-buffer):
+// forward.vert (so its depths are the forward pass's) and gbuffer.frag into the four targets,
+// both faces (scenes are two-sided).
+inline gpu::GraphicsPipelineDesc gbuffer_pass_desc(VkFormat depth_format) {
+  gpu::GraphicsPipelineDesc g;
+  g.vertex_shader = "forward.vert";
+  g.fragment_shader = "gbuffer.frag";
+  g.vertex_input = mesh_vertex_input(false);
+  g.cull = VK_CULL_MODE_NONE;
+  g.color_formats = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
+  g.depth_format = depth_format;
+  g.stencil_format = depth_format;
+  return g;
+}
 
 inline ResourceDesc hdr_target(uint32_t extra_usage = 0) {
   ResourceDesc r;
