@@ -32,6 +32,7 @@
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/prt_baker.h"
+#include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
 #include "illum/core/error.h"
 #include "illum/core/image.h"
@@ -248,22 +249,13 @@ int run_prt_vs_path(SuiteArgs args) {
                         {"texels", baked.texels},
                         {"bake_spp", a.bake_spp},
                         {"bake_seconds", baked.seconds},
-                        {"shoot_rounds", baked.shoot_rounds},
-                        {"unshot_fraction", baked.unshot_fraction},
-                        {"relative_unshot", baked.relative_unshot},
-                        {"shot_shares",
-                         {{"front", baked.shot_shares.front},
-                          {"back", baked.shot_shares.back},
-                          {"escaped", baked.shot_shares.escaped},
-                          {"lost", baked.shot_shares.lost},
-                          {"below", baked.shot_shares.below}}},
-                        {"back_sides", baked.back_sides},
                         {"image", {w, h}},
                         {"relight_spp", a.relight_spp},
                         {"path_spp", a.path_spp},
                         {"max_bounces", a.max_bounces},
                         {"region", a.region},
                         {"lights", nlohmann::json::array()}};
+  out.update(bake::shooting_record(baked));
   for (size_t li = 0; li < lights.size(); ++li) {
     const TestLight& t = lights[li];
     bake::RelightOptions ro;

@@ -180,16 +180,6 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"max_rounds", options.max_rounds},
               {"normal_maps", options.normal_maps},
               {"normal_map_samples", options.normal_map_samples},
-              {"shoot_rounds", baked.shoot_rounds},
-              {"unshot_fraction", baked.unshot_fraction},
-              {"relative_unshot", baked.relative_unshot},
-              {"shot_shares",
-               {{"front", baked.shot_shares.front},
-                {"back", baked.shot_shares.back},
-                {"escaped", baked.shot_shares.escaped},
-                {"lost", baked.shot_shares.lost},
-                {"below", baked.shot_shares.below}}},
-              {"back_sides", baked.back_sides},
               {"texels", baked.texels},
               {"vertices", baked.vertices},
               {"rays", baked.rays},
@@ -198,6 +188,7 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"shoot_seconds", baked.shoot_seconds},
               {"texels_pushed_out", pushed.moved},
               {"texels_rejected", pushed.rejected}};
+  set.bake.update(bake::shooting_record(baked));
   if (set.vq.count() > 0) {
     const double full = double(set.texel_transfer.data.size()) * 4.0;
     const double packed =
