@@ -32,6 +32,7 @@
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/prt_baker.h"
+#include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
 #include "illum/core/error.h"
 #include "illum/core/image.h"
@@ -56,6 +57,7 @@ struct PrtVsPathArgs {
   int width = 128, height = 128, relight_spp = 16, path_spp = 64, max_bounces = 16, region = 8;
   int threads = 0;
   uint64_t seed = 1;
+  double shoot_tolerance = 1e-3, shoot_relative_tolerance = 0.05;
   std::string image_path, json_path;
 };
 
@@ -133,6 +135,12 @@ int run_prt_vs_path(SuiteArgs args) {
       ->check(CLI::Range(1, 1 << 16));
   app.add_option("--max-bounces", a.max_bounces, "path-tracer bounces")->check(CLI::Range(1, 1024));
   app.add_option("--region", a.region, "region side in pixels")->check(CLI::Range(2, 256));
+  app.add_option("--shoot-tolerance", a.shoot_tolerance,
+                 "interreflected: stop shooting at this share of the initial unshot transfer")
+      ->check(CLI::Range(2e-6, 1.0));
+  app.add_option("--shoot-relative-tolerance", a.shoot_relative_tolerance,
+                 "interreflected: and at this mean share of each patch's light unshot (1: off)")
+      ->check(CLI::Range(2e-6, 1.0));
   app.add_option("--threads", a.threads, "worker threads (0: all)")->check(CLI::Range(0, 4096));
   app.add_option("--seed", a.seed, "bake seed (path tracer: seed + 10, + 11, + 12)");
   app.add_option("--image", a.image_path, "write the image grid (PNG) here");
@@ -187,7 +195,12 @@ int run_prt_vs_path(SuiteArgs args) {
   const RayTracer tracer(scene);
   const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
   bake::PrtBakeOptions bake_options = bake::PrtBakeOptions::from_params(
-      Params({{"bands", a.bands}, {"mode", a.mode}, {"spp", a.bake_spp}, {"seed", a.seed}},
+      Params({{"bands", a.bands},
+              {"mode", a.mode},
+              {"spp", a.bake_spp},
+              {"seed", a.seed},
+              {"shoot_tolerance", a.shoot_tolerance},
+              {"shoot_relative_tolerance", a.shoot_relative_tolerance}},
              "prt-vs-path"));
   bake_options.progress = false;
   bake_options.vertices = false;
@@ -203,10 +216,14 @@ int run_prt_vs_path(SuiteArgs args) {
     sets[k].texel_transfer = std::move(baked.texel_transfer);
     std::printf(
         "bake (seed %llu): %s, %d bands, atlas %dx%d, %zu texels, %d rays a texel, %.2f s "
-        "(shooting %.2f s, %d rounds, unshot %.3g)\n",
+        "(shooting %.2f s, %d rounds, unshot %.3g, relative %.3g; light shot: %.4f to fronts, %.4f "
+        "to %lld "
+        "back sides, %.4f escaped, %.4f lost, %.4f below the surface)\n",
         (unsigned long long)bake_options.seed, scene.name.c_str(), baked.bands, atlas.width,
         atlas.height, baked.texels, a.bake_spp, baked.seconds, baked.shoot_seconds,
-        baked.shoot_rounds, baked.unshot_fraction);
+        baked.shoot_rounds, baked.unshot_fraction, baked.relative_unshot, baked.shot_shares.front,
+        baked.shot_shares.back, (long long)baked.back_sides, baked.shot_shares.escaped,
+        baked.shot_shares.lost, baked.shot_shares.below);
   }
   const bake::PrtSet& set = sets[0];
 
@@ -232,13 +249,13 @@ int run_prt_vs_path(SuiteArgs args) {
                         {"texels", baked.texels},
                         {"bake_spp", a.bake_spp},
                         {"bake_seconds", baked.seconds},
-                        {"shoot_rounds", baked.shoot_rounds},
                         {"image", {w, h}},
                         {"relight_spp", a.relight_spp},
                         {"path_spp", a.path_spp},
                         {"max_bounces", a.max_bounces},
                         {"region", a.region},
                         {"lights", nlohmann::json::array()}};
+  out.update(bake::shooting_record(baked));
   for (size_t li = 0; li < lights.size(); ++li) {
     const TestLight& t = lights[li];
     bake::RelightOptions ro;

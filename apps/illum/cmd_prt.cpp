@@ -176,11 +176,10 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"coplanar_edges", baked.coplanar_edges},
               {"stitch_seconds", baked.stitch_seconds},
               {"shoot_tolerance", options.shoot_tolerance},
+              {"shoot_relative_tolerance", options.shoot_relative_tolerance},
               {"max_rounds", options.max_rounds},
               {"normal_maps", options.normal_maps},
               {"normal_map_samples", options.normal_map_samples},
-              {"shoot_rounds", baked.shoot_rounds},
-              {"unshot_fraction", baked.unshot_fraction},
               {"texels", baked.texels},
               {"vertices", baked.vertices},
               {"rays", baked.rays},
@@ -189,6 +188,7 @@ void run_prt_bake(const PrtBakeRequest& args) {
               {"shoot_seconds", baked.shoot_seconds},
               {"texels_pushed_out", pushed.moved},
               {"texels_rejected", pushed.rejected}};
+  set.bake.update(bake::shooting_record(baked));
   if (set.vq.count() > 0) {
     const double full = double(set.texel_transfer.data.size()) * 4.0;
     const double packed =

@@ -294,6 +294,9 @@ void PrtBakeOptions::validate() const {
   if (!(shoot_tolerance >= 1e-6 && shoot_tolerance <= 1.0))
     throw Error(
         fmt::format("PRT bake: shoot_tolerance = {} must lie in [1e-6, 1]", shoot_tolerance));
+  if (!(shoot_relative_tolerance >= 1e-6 && shoot_relative_tolerance <= 1.0))
+    throw Error(fmt::format("PRT bake: shoot_relative_tolerance = {} must lie in [1e-6, 1]",
+                            shoot_relative_tolerance));
   if (max_rounds < 0 || max_rounds > kMaxRounds)
     throw Error(
         fmt::format("PRT bake: max_rounds = {} must lie in [0, {}]", max_rounds, kMaxRounds));
@@ -317,6 +320,8 @@ PrtBakeOptions PrtBakeOptions::from_params(const Params& params) {
   o.spp = params.get_int_in("spp", o.spp, 1, kMaxSpp);
   o.shoot_tolerance =
       double(params.get_float_in("shoot_tolerance", float(o.shoot_tolerance), 1e-6f, 1.0f));
+  o.shoot_relative_tolerance = double(params.get_float_in(
+      "shoot_relative_tolerance", float(o.shoot_relative_tolerance), 1e-6f, 1.0f));
   o.max_rounds = params.get_int_in("max_rounds", o.max_rounds, 0, kMaxRounds);
   o.dilate = params.get_int_in("dilate", o.dilate, 0, kMaxDilate);
   // As the light-map bakers: off in the struct (the raw transfer), on through files and CLI.
@@ -350,7 +355,6 @@ PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster) {
     const vec3 p0 = world_point(inst, mesh.positions[idx[0]]);
     const vec3 ng = glm::cross(world_point(inst, mesh.positions[idx[1]]) - p0,
                                world_point(inst, mesh.positions[idx[2]]) - p0);
-    if (glm::dot(ng, ray.direction) >= 0.0f) return r;  // the back of a surface
     const vec2 b = hit.barycentric;
     const vec2 uv =
         (1.0f - b.x - b.y) * mesh.uv1[idx[0]] + b.x * mesh.uv1[idx[1]] + b.y * mesh.uv1[idx[2]];
@@ -358,6 +362,7 @@ PrtPatches texel_patches(const Scene& scene, const atlas::TexelRaster& raster) {
     const int y = std::clamp(int(uv.y * float(raster.height)), 0, raster.height - 1);
     const int32_t k = raster.at(x, y);
     if (k < 0) return r;
+    r.back = glm::dot(ng, ray.direction) >= 0.0f;  // against the winding: the back side
     r.count = 1;
     r.patch[0] = k;
     r.weight[0] = 1.0f;
@@ -401,8 +406,8 @@ PrtPatches vertex_patches(const Scene& scene) {
     const vec3 p0 = world_point(inst, mesh.positions[idx[0]]);
     const vec3 ng = glm::cross(world_point(inst, mesh.positions[idx[1]]) - p0,
                                world_point(inst, mesh.positions[idx[2]]) - p0);
-    if (glm::dot(ng, ray.direction) >= 0.0f) return r;  // the back of a surface
     const vec2 b = hit.barycentric;
+    r.back = glm::dot(ng, ray.direction) >= 0.0f;  // against the winding: the back side
     r.count = 3;
     for (int c = 0; c < 3; ++c) r.patch[c] = int32_t(base[hit.instance] + idx[c]);
     r.weight[0] = 1.0f - b.x - b.y;
@@ -435,6 +440,7 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
   TransferShootingOptions shooting;
   shooting.rays = options.spp;
   shooting.tolerance = options.shoot_tolerance;
+  shooting.relative_tolerance = options.shoot_relative_tolerance;
   shooting.max_rounds = options.max_rounds;
   shooting.seed = hash_mix(options.seed, 0x73686f6f74ull);
 
@@ -462,6 +468,9 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
           shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
       bake.shoot_rounds += shot.rounds;
       bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
+      bake.relative_unshot = std::max(bake.relative_unshot, shot.relative_unshot);
+      bake.shot_shares = shot.shares;
+      bake.back_sides = shot.back_sides;
       rays += shot.rays;
       bake.shoot_seconds += seconds_since(t0);
     }
@@ -545,6 +554,11 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
           shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
       bake.shoot_rounds += shot.rounds;
       bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
+      bake.relative_unshot = std::max(bake.relative_unshot, shot.relative_unshot);
+      if (!options.texels) {
+        bake.shot_shares = shot.shares;
+        bake.back_sides = shot.back_sides;
+      }
       rays += shot.rays;
       bake.shoot_seconds += seconds_since(t0);
     }

@@ -48,6 +48,9 @@ struct PrtBakeOptions {
   // Shooting stops when the unshot transfer (Σ area·Σ|c| over patches) is below this share
   // of the direct transfer's, or after max_rounds rounds (prt_shooting.h).
   double shoot_tolerance = 1e-3;
+  // And when the mean over patches of their unshot / what they reflect is below this
+  // (TransferShootingOptions::relative_tolerance; 1: off).
+  double shoot_relative_tolerance = 0.05;
   int max_rounds = 64;
   int dilate = 4;  // border passes of atlas::dilate on every coefficient map
   // Seam stitching of the SHL-map after dilation, each coefficient as a light-map layer
@@ -67,7 +70,8 @@ struct PrtBakeOptions {
   int threads = 0;
   bool progress = true;
 
-  // Keys: bands (2..8), mode, spp (1..2²⁰), shoot_tolerance (1e-6..1), max_rounds
+  // Keys: bands (2..8), mode, spp (1..2²⁰), shoot_tolerance and shoot_relative_tolerance
+  // (1e-6..1), max_rounds
   // (0..10000), dilate (0..64), stitch and stitch_coplanar (bool, default true), seed,
   // normal_maps (bool), normal_map_samples (1..4096). Throws Error for out-of-range values or
   // unknown names.
@@ -107,6 +111,11 @@ struct PrtBake {
   int64_t coplanar_edges = 0;    // coplanar edge pairs joined
   int shoot_rounds = 0;          // texel and vertex shooting together
   double unshot_fraction = 0.0;  // the larger of the two sets' unshot / direct at the end
+  double relative_unshot = 0.0;  // the larger of the two sets' (TransferShootingResult)
+  // Where the texel shooting's light went (the vertex set's when texels were not baked), and
+  // how many patches' back sides received some (prt_shooting.h).
+  TransferShotShares shot_shares;
+  int64_t back_sides = 0;
   int64_t rays = 0;
   size_t texels = 0;  // covered texels baked
   size_t vertices = 0;
@@ -116,7 +125,8 @@ struct PrtBake {
 // texel of `raster` (area: the world area of the texel's part of the charts, by clipping
 // each triangle's uv1 to the texel) or one per vertex of every instance (area: a third of
 // the adjacent triangles'; a hit is received by its triangle's corners by barycentric
-// weight). The receiver refers to `scene` and `raster`, which must outlive it.
+// weight). A hit against the winding lands on the back sides of the same patches. The
+// receiver refers to `scene` and `raster`, which must outlive it.
 struct PrtPatches {
   std::vector<TransferPatch> patches;
   TransferReceiver receiver;

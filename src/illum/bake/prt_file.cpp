@@ -320,4 +320,18 @@ void apply_prt_set(Scene& scene, const PrtSet& set) {
   }
 }
 
+nlohmann::json shooting_record(const PrtBake& baked) {
+  const TransferShotShares& s = baked.shot_shares;
+  return {{"shoot_rounds", baked.shoot_rounds},
+          {"unshot_fraction", baked.unshot_fraction},
+          {"relative_unshot", baked.relative_unshot},
+          {"shot_shares",
+           {{"front", s.front},
+            {"back", s.back},
+            {"escaped", s.escaped},
+            {"lost", s.lost},
+            {"below", s.below}}},
+          {"back_sides", baked.back_sides}};
+}
+
 }  // namespace illum::bake

@@ -63,4 +63,8 @@ PrtSet load_prt_set(const std::filesystem::path& folder);
 // match; throws Error (one line naming the folder) and leaves `scene` unchanged otherwise.
 void apply_prt_set(Scene& scene, const PrtSet& set);
 
+// The shooting's figures for a manifest's "bake" object: shoot_rounds, unshot_fraction,
+// relative_unshot, shot_shares {front, back, escaped, lost, below} and back_sides.
+nlohmann::json shooting_record(const PrtBake& baked);
+
 }  // namespace illum::bake

@@ -9,7 +9,18 @@
 // (A_j / (rays·A_k))·U_j × weight to T_k and albedo_k ∘ that to U_k. In expectation that is
 // F_kj·U_j, the form factor from k to j (E_k/π = Σ_j F_kj L_j), so T converges to the
 // interreflected transfer. Rounds end when the unshot total is below `tolerance` × the
-// initial (direct) total, or after `max_rounds`.
+// initial (direct) total and the patches' mean relative unshot below `relative_tolerance`
+// (below), or after `max_rounds`.
+//
+// Two-sided, as the path tracer's opaque materials (render/bsdf.h): a ray that hits the back
+// of a surface lands on that patch's back side, which has an unshot part of its own
+// (albedo_k ∘ what it received) and shoots it about the reversed normals like a front. Only
+// the front's T is returned (the SHL-map holds one side); the back sides exist so light
+// that reaches them is reflected on instead of lost (Sibenik: 4–27 % of the light shot by
+// the nave's floor, carpet, columns and walls hit backs — single-sided and intersecting
+// geometry — and the relit interreflection was 5–20 % darker than the path tracer, docs/
+// prt.md). A back side starts unlit (the direct transfer is the front's) and is created
+// the first time something lands on it, so closed scenes pay nothing.
 //
 // Not the radiosity baker's bake/progressive_shooting.h, checked for issue 11: both are
 // Southwell iterations (an unshot part, the shooter by magnitude × area, a stop at a share
@@ -46,36 +57,59 @@ struct TransferPatch {
 };
 
 // Where a hit lands: up to 3 patches with weights summing to 1 (a texel: one; a vertex
-// hat basis: the triangle's three corners by barycentric weight). count = 0: nowhere (and
-// the receiver returns that for a hit on the back of a surface: T is the front side's).
+// hat basis: the triangle's three corners by barycentric weight), on their back sides when
+// `back` (the ray met the surface against its winding). count = 0: nowhere (a surface
+// without patches).
 struct TransferReceipt {
   int count = 0;
   int32_t patch[3] = {-1, -1, -1};
   float weight[3] = {0.0f, 0.0f, 0.0f};
+  bool back = false;
 };
 using TransferReceiver = std::function<TransferReceipt(const Ray& ray, const Hit& hit)>;
 
 struct TransferShootingOptions {
   int rays = 256;
   double tolerance = 1e-3;
+  // and when the area-weighted mean over patch sides of min(1, unshot / all they reflect,
+  // Σ|c| each) is at most this: the absolute total alone stops while a dim part of the
+  // scene (Sibenik's nave, lit through windows, beside a sunlit town) still holds a large
+  // share of its light unshot. 1: off.
+  double relative_tolerance = 0.05;
   int max_rounds = 64;
   uint64_t seed = 0;
+};
+
+// Where the shot light went, as shares of the light shot (the first coefficient's RGB sum ×
+// the shooter's area share, summed over rays: the power a constant sky's bounce carries).
+struct TransferShotShares {
+  double front = 0.0;    // landed on patches' fronts
+  double back = 0.0;     // landed on patches' back sides (reflected on from there)
+  double escaped = 0.0;  // left the scene
+  double lost = 0.0;     // hit a surface that has no patch
+  double below = 0.0;    // drawn below the geometric surface: not shot (as the path tracer)
 };
 
 struct TransferShootingResult {
   int rounds = 0;
   double unshot_fraction =
       0.0;  // unshot total / initial total at the end (0 when nothing to shoot)
+  double relative_unshot = 0.0;  // mean of each side's unshot / what it reflects, by area
   int64_t rays = 0;
+  int64_t back_sides = 0;  // patches whose back side received light
+  TransferShotShares shares;
 };
 
 // `transfer` holds patches.size() × payload floats ([patch][payload], payload = 3 × SH
 // coefficient count, [i][rgb]): the direct transfer on entry, the interreflected on return.
+// `back_direct`, empty or laid out as `transfer`: the direct transfer of the patches' back
+// sides (about the reversed normals), which they reflect on; empty: the backs start unlit.
 // Throws Interrupted on Ctrl-C.
 TransferShootingResult shoot_transfer(const RayTracer& tracer,
                                       std::span<const TransferPatch> patches,
                                       const TransferReceiver& receiver, int payload,
                                       std::vector<float>& transfer,
-                                      const TransferShootingOptions& options);
+                                      const TransferShootingOptions& options,
+                                      std::span<const float> back_direct = {});
 
 }  // namespace illum::bake
