@@ -244,6 +244,10 @@ void PassContext::clusters(double count) {
   if (timer_) timer_->note_clusters(count);
 }
 
+void PassContext::bytes(double count) {
+  if (timer_) timer_->note_bytes(count);
+}
+
 void PassContext::drawn(VkBuffer counter, VkDeviceSize offset) {
   if (timer_) timer_->note_drawn(cmd_, counter, offset);
 }

@@ -224,6 +224,8 @@ class PassContext {
   // Triangles the innermost open scope submitted (its geometry bound), and its clusters.
   void triangles(double count);
   void clusters(double count);
+  // Bytes of compute work the innermost open scope reads and writes (its memory bound).
+  void bytes(double count);
   // Triangles and clusters counted on the GPU (gpu::GpuTimer::note_drawn).
   void drawn(VkBuffer counter, VkDeviceSize offset);
   // Counting frames: of the draws recorded between the two calls, the triangles that reach

@@ -173,6 +173,10 @@ void OcclusionCuller::cull(PassContext& pass, View& v, const std::string& depth_
                       kPredicateRead | VK_ACCESS_2_TRANSFER_READ_BIT);
   pass.use(depth_resource, kDepthAttachment);
   v.culled_at = pass.frame();
+  // Its memory bound: the depth read, every HZB level written and read once more, and per
+  // listed cluster its bounds, its flags and a few HZB texels.
+  const double hzb = 4.0 * hzb_floats(extent);
+  pass.bytes(4.0 * extent.width * extent.height + 2.0 * hzb + 64.0 * order.size());
 }
 
 const OcclusionCuller::View* OcclusionCuller::culled(const std::string& key, uint64_t frame) const {
