@@ -40,6 +40,7 @@ bool identical(const Image& a, const Image& b) {
 // clusters), lit by a point light in front (cube faces) and a spot light above.
 Scene wall_and_blocks() {
   Scene s = test::cornell_point_light();
+  s.name = "wall-and-blocks";
   s.meshes.clear();
   s.instances.clear();
   test::add_quad(s, {-3, 0, -8}, {-3, 0, 2}, {3, 0, 2}, {3, 0, -8}, 0);  // floor
