@@ -27,7 +27,7 @@ layout(std430, set = 0, binding = 7) buffer Stats { uint stats[4]; };
 layout(push_constant) uniform Push {
   mat4 clip;      // occlusion_cull: the view's world-to-clip transform
   uvec4 config;   // x: count (clusters listed / texels of the level built), y: parity, z: flags
-  uvec4 extent;   // xy: the depth target's size; hzb_build: zw = the level built
+  uvec4 extent;   // xy: the depth target's size; hzb_build: z = the first level built, w = how many
 } push;
 
 // Size of HZB level `level` for a depth target of `extent`.

@@ -24,14 +24,27 @@ constexpr VkAccessFlags2 kStorage =
     VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
 constexpr VkPipelineStageFlags2 kTransfer = VK_PIPELINE_STAGE_2_TRANSFER_BIT;
 
+// HZB levels (shaders/occlusion.glsl): level 0 half the target's size, each next one half
+// of it, rounded up, down to 1 × 1.
+glm::uvec2 hzb_level_size(VkExtent2D extent, uint32_t level) {
+  glm::uvec2 s((extent.width + 1) / 2, (extent.height + 1) / 2);
+  for (uint32_t k = 0; k < level; ++k) s = (s + 1u) / 2u;
+  return s;
+}
+
+uint32_t hzb_levels(VkExtent2D extent) {
+  uint32_t levels = 1;
+  while (hzb_level_size(extent, levels - 1) != glm::uvec2(1)) ++levels;
+  return levels;
+}
+
 uint32_t hzb_floats(VkExtent2D extent) {
-  uint32_t total = 0, w = (extent.width + 1) / 2, h = (extent.height + 1) / 2;
-  for (;;) {
-    total += w * h;
-    if (w == 1 && h == 1) return total;
-    w = (w + 1) / 2;
-    h = (h + 1) / 2;
+  uint32_t total = 0;
+  for (uint32_t level = 0; level < hzb_levels(extent); ++level) {
+    const glm::uvec2 s = hzb_level_size(extent, level);
+    total += s.x * s.y;
   }
+  return total;
 }
 
 }  // namespace
@@ -153,15 +166,15 @@ void OcclusionCuller::cull(PassContext& pass, View& v, const std::string& depth_
   CullPush push;
   push.extent = glm::uvec4(extent.width, extent.height, 0u, 0u);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, build_.handle());
-  uint32_t w = (extent.width + 1) / 2, h = (extent.height + 1) / 2;
-  for (uint32_t level = 0;; ++level) {
-    push.extent.z = level;
+  // Four levels a dispatch (shaders/hzb_build.comp), 16 × 16 texels of the first a group.
+  const uint32_t levels = hzb_levels(extent);
+  for (uint32_t first = 0; first < levels; first += 4) {
+    const glm::uvec2 size = hzb_level_size(extent, first);
+    push.extent.z = first;
+    push.extent.w = std::min(4u, levels - first);
     vkCmdPushConstants(cmd, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, (w + 7) / 8, (h + 7) / 8, 1);
+    vkCmdDispatch(cmd, (size.x + 15) / 16, (size.y + 15) / 16, 1);
     gpu::memory_barrier(cmd, kCompute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kCompute, kStorage);
-    if (w == 1 && h == 1) break;
-    w = (w + 1) / 2;
-    h = (h + 1) / 2;
   }
   push.clip = clip;
   push.config =
