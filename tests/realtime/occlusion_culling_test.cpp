@@ -26,6 +26,7 @@ RenderSettings settings(const std::string& pipeline, int width, int height, bool
   o.pipeline = pipeline;
   o.shadows = "map";
   o.set("scene_draw.occlusion_culling", culling);
+  o.set("map.update_period", 1);  // every shadow view re-rendered (and culled) each frame
   return o;
 }
 
@@ -108,17 +109,21 @@ TEST_F(OcclusionCulling, BigOccluderDropsTheClustersDrawnAndTheImageStays) {
   for (const std::string pipeline : {"forward", "deferred", "visibility"}) {
     const auto times = expect_identical(scene, pipeline, path, 64, 48);
     const std::string raster = pipeline == "visibility" ? "visibility" : "depth_prepass";
-    std::vector<double> clusters, triangles;
+    std::vector<double> clusters, triangles, shadow_clusters;
     for (const auto& frame : times)
-      for (const gpu::PassTime& t : frame)
+      for (const gpu::PassTime& t : frame) {
         if (t.name == raster && t.depth == 0) {
           clusters.push_back(t.clusters);
           triangles.push_back(t.triangles);
         }
+        if (t.name == "shadow_maps" && t.depth == 0) shadow_clusters.push_back(t.clusters);
+      }
     ASSERT_EQ(clusters.size(), path.size());
     std::printf("%s: %s clusters (triangles) drawn per frame:", pipeline.c_str(), raster.c_str());
     for (size_t f = 0; f < clusters.size(); ++f)
       std::printf(" %.0f (%.0f)", clusters[f], triangles[f]);
+    std::printf("; shadow_maps clusters:");
+    for (double c : shadow_clusters) std::printf(" %.0f", c);
     std::printf("\n");
     // 36 blocks × 5 quads behind the wall. The first frame has no history: it draws every
     // cluster in view (the floor, the wall, every block face in the frustum). The second,
@@ -128,6 +133,9 @@ TEST_F(OcclusionCulling, BigOccluderDropsTheClustersDrawnAndTheImageStays) {
     // Each cluster here is one quad: two triangles, counted on the GPU.
     EXPECT_EQ(triangles[1], 2.0 * clusters[1]);
     EXPECT_EQ(triangles[0], 2.0 * clusters[0]);
+    // The point light's cube faces (in front of the wall) stop drawing the blocks too.
+    ASSERT_EQ(shadow_clusters.size(), path.size());
+    EXPECT_LT(shadow_clusters[1], 0.6 * shadow_clusters[0]) << "shadow views cull too";
     // Over the wall the blocks show: the second half draws them.
     EXPECT_GE(clusters[2], 100.0);
   }
