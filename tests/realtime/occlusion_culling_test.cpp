@@ -37,6 +37,14 @@ bool identical(const Image& a, const Image& b) {
          std::memcmp(a.data().data(), b.data().data(), a.data().size() * sizeof(float)) == 0;
 }
 
+Camera look(vec3 position, vec3 at, float fov_degrees) {
+  Camera c;
+  c.position = position;
+  c.look_at = at;
+  c.fov_y = radians(fov_degrees);
+  return c;
+}
+
 // A wall at z = 0 hiding a 6 × 6 grid of blocks behind it (each block five quads: five
 // clusters), lit by a point light in front (cube faces) and a spot light above.
 Scene wall_and_blocks() {
@@ -58,11 +66,7 @@ Scene wall_and_blocks() {
   spot.cone_half_angle = radians(40.0f);
   spot.intensity = Color(20.0f);
   s.lights.push_back(spot);
-  Camera cam;
-  cam.position = vec3(0.0f, 1.0f, 3.0f);
-  cam.look_at = vec3(0.0f, 0.8f, -2.0f);
-  cam.fov_y = radians(45.0f);
-  s.camera = cam;
+  s.camera = look({0.0f, 1.0f, 3.0f}, {0.0f, 0.8f, -2.0f}, 45.0f);
   return s;
 }
 
@@ -83,14 +87,6 @@ std::vector<std::vector<gpu::PassTime>> expect_identical(const Scene& scene,
         << scene.name << " " << pipeline << ": frame " << f << " differs from the unculled one";
   }
   return times;
-}
-
-Camera look(vec3 position, vec3 at, float fov_degrees) {
-  Camera c;
-  c.position = position;
-  c.look_at = at;
-  c.fov_y = radians(fov_degrees);
-  return c;
 }
 
 // In front of the wall (the blocks hidden), then a jump over it (the blocks in view: the
