@@ -76,8 +76,9 @@ OcclusionCuller::OcclusionCuller(gpu::Context& context, const GpuScene& scene,
   test_ = gpu::Pipeline(context, layout_.handle(), "occlusion_cull.comp");
 }
 
-void OcclusionCuller::set_enabled(bool on) {
+void OcclusionCuller::set_enabled(bool on, bool shadows) {
   enabled_ = on && context_.conditional_rendering();
+  shadows_ = shadows;
   if (on && !enabled_ && !warned_) {
     warned_ = true;
     log::warn("occlusion culling off: device '{}' lacks VK_EXT_conditional_rendering",

@@ -39,9 +39,12 @@ class OcclusionCuller {
   OcclusionCuller(gpu::Context& context, const GpuScene& scene, FrameResources& resources);
 
   // Culling runs when switched on and the device has conditional rendering; switching it on
-  // where it cannot run logs why, once.
-  void set_enabled(bool on);
-  bool enabled() const { return enabled_; }
+  // where it cannot run logs why, once. `shadows`: also in the shadow views (keys
+  // "shadow.*"), which draw many more clusters than the camera (each a predicated draw).
+  void set_enabled(bool on, bool shadows = true);
+  bool enabled(const std::string& key) const {
+    return enabled_ && (shadows_ || key.rfind("shadow.", 0) != 0);
+  }
   const gpu::Context& context() const { return context_; }
 
   // The GPU state of one persistent view.
@@ -78,6 +81,7 @@ class OcclusionCuller {
   const GpuScene& scene_;
   FrameResources& resources_;
   bool enabled_ = false;
+  bool shadows_ = true;
   bool warned_ = false;
   gpu::Buffer cluster_bounds_;
   gpu::Sampler sampler_;

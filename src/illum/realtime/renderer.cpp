@@ -269,7 +269,8 @@ struct Renderer::Impl {
          last_camera->up != camera.up || last_camera->fov_y != camera.fov_y))
       graph->notify(kCameraChanged);
     last_camera = camera;
-    occlusion.set_enabled(settings.get<bool>("scene_draw.occlusion_culling"));
+    occlusion.set_enabled(settings.get<bool>("scene_draw.occlusion_culling"),
+                          settings.get<bool>("scene_draw.occlusion_culling_shadows"));
     update_view(camera);
     globals.update(view, settings, lights.size(), globals_width(), globals_height());
     for (const auto& t : techniques) t->update();

@@ -237,7 +237,7 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   const VkCommandBuffer cmd = pass.cmd();
   const std::vector<uint32_t> order = visible_clusters(scene_, view);
   using Occlusion = SceneView::Occlusion;
-  const bool culling = occlusion_ && occlusion_->enabled() && view.cull &&
+  const bool culling = occlusion_ && occlusion_->enabled(view.occlusion_key) && view.cull &&
                        view.occlusion != Occlusion::kNone && cmd != VK_NULL_HANDLE;
   const bool two_phase = culling && view.occlusion == Occlusion::kTwoPhase;
   const OcclusionCuller::View* now =

@@ -16,6 +16,10 @@ TechniqueDecl scene_draw_technique() {
                  "visibility raster and the shadow views (realtime/occlusion_culling.h); the "
                  "image does not change")
           .aka("occlusion_culling"),
+      bool_param("occlusion_culling_shadows", true,
+                 "occlusion culling in the shadow views too (spot maps, cube faces, cascades: "
+                 "many more clusters, each a predicated draw)")
+          .aka("occlusion_culling_shadows"),
   };
   return t;
 }
