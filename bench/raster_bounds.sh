@@ -7,6 +7,8 @@
 #   bench/raster_bounds.sh ILLUM ILLUM_BENCH OUTDIR
 #   SCENES="cornell sibenik" SIZES="960x540 1920x1080 3840x2160" PIPELINES="forward deferred"
 #   FRAMES=200 WARMUP=20 REPEATS=50   (environment, defaults shown)
+#   PARAMS="-p occlusion_culling=false"  (environment: more `illum frame` arguments, e.g. the
+#   occlusion culling switched off; default none)
 #
 # Writes OUTDIR/SCENE-WxH-PIPELINE-{every,cached}.{json,txt}, OUTDIR/raster.{json,txt}.
 # Exit 2 on bad arguments.
@@ -29,8 +31,9 @@ for scene in ${SCENES:-cornell sibenik}; do
         extra=(-p shadow_update_period=1)
         [ "$schedule" = cached ] && extra=(-p shadow_update_period=0)
         name="$scene-$size-$pipeline-$schedule"
+        # shellcheck disable=SC2086  # PARAMS splits into arguments
         "$illum" frame "$scene" --width "$w" --height "$h" --technique "$pipeline" --shadows map \
-          --frames "${FRAMES:-200}" --warmup "${WARMUP:-20}" "${extra[@]}" \
+          --frames "${FRAMES:-200}" --warmup "${WARMUP:-20}" "${extra[@]}" ${PARAMS:-} \
           --json "$out/$name.json" > "$out/$name.txt"
         echo "$name: $(grep -E '^  frame ' "$out/$name.txt")"
       done

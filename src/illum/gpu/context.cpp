@@ -261,6 +261,13 @@ void Context::pick_device(const ContextOptions& options) {
   }
 }
 
+void Context::begin_conditional(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset) const {
+  VkConditionalRenderingBeginInfoEXT info{VK_STRUCTURE_TYPE_CONDITIONAL_RENDERING_BEGIN_INFO_EXT};
+  info.buffer = buffer;
+  info.offset = offset;
+  begin_conditional_(cmd, &info);
+}
+
 void Context::create_device(bool swapchain) {
   VkPhysicalDeviceSubgroupProperties subgroup{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
@@ -273,6 +280,18 @@ void Context::create_device(bool swapchain) {
   VkPhysicalDeviceVulkan13Features have13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   have12.pNext = &have13;
+  VkPhysicalDeviceConditionalRenderingFeaturesEXT have_conditional{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_CONDITIONAL_RENDERING_FEATURES_EXT};
+  uint32_t extension_count = 0;
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &extension_count, nullptr);
+  std::vector<VkExtensionProperties> device_extensions(extension_count);
+  vkEnumerateDeviceExtensionProperties(physical_, nullptr, &extension_count,
+                                       device_extensions.data());
+  const bool has_conditional_extension =
+      std::any_of(device_extensions.begin(), device_extensions.end(), [](const auto& e) {
+        return std::strcmp(e.extensionName, VK_EXT_CONDITIONAL_RENDERING_EXTENSION_NAME) == 0;
+      });
+  if (has_conditional_extension) have13.pNext = &have_conditional;
   VkPhysicalDeviceFeatures2 have{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   have.pNext = &have12;
   vkGetPhysicalDeviceFeatures2(physical_, &have);
@@ -324,6 +343,14 @@ void Context::create_device(bool swapchain) {
   queue.pQueuePriorities = &priority;
   std::vector<const char*> extensions;
   if (swapchain) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  // Occlusion culling predicates each cluster's draw on a GPU-written flag (SceneDrawer).
+  VkPhysicalDeviceConditionalRenderingFeaturesEXT conditional{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_CONDITIONAL_RENDERING_FEATURES_EXT};
+  if (has_conditional_extension && have_conditional.conditionalRendering) {
+    extensions.push_back(VK_EXT_CONDITIONAL_RENDERING_EXTENSION_NAME);
+    conditional.conditionalRendering = VK_TRUE;
+    f13.pNext = &conditional;
+  }
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &features;
   info.queueCreateInfoCount = 1;
@@ -332,6 +359,13 @@ void Context::create_device(bool swapchain) {
   info.ppEnabledExtensionNames = extensions.data();
   ILLUM_VK(vkCreateDevice(physical_, &info, nullptr, &device_));
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  if (conditional.conditionalRendering) {
+    begin_conditional_ = reinterpret_cast<PFN_vkCmdBeginConditionalRenderingEXT>(
+        vkGetDeviceProcAddr(device_, "vkCmdBeginConditionalRenderingEXT"));
+    end_conditional_ = reinterpret_cast<PFN_vkCmdEndConditionalRenderingEXT>(
+        vkGetDeviceProcAddr(device_, "vkCmdEndConditionalRenderingEXT"));
+    if (!begin_conditional_ || !end_conditional_) begin_conditional_ = nullptr;
+  }
   allocator_ = std::make_unique<Allocator>(physical_, device_);
 
   VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};

@@ -62,6 +62,13 @@ class Context {
   // Fragment shaders can count the 2×2 quads they run in (subgroup quad operations and
   // storage writes in the fragment stage: shaders/quad_count.frag).
   bool quad_counting() const { return quad_counting_; }
+  // VK_EXT_conditional_rendering (draws predicated on a GPU-written flag: occlusion culling),
+  // enabled where the device has it.
+  bool conditional_rendering() const { return begin_conditional_ != nullptr; }
+  // Draws recorded until end_conditional() run only where the uint32 at `offset` of
+  // `buffer` is not zero (needs conditional_rendering()).
+  void begin_conditional(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset) const;
+  void end_conditional(VkCommandBuffer cmd) const { end_conditional_(cmd); }
   bool timestamps() const { return timestamp_period_ns_ > 0.0f; }
   float timestamp_period_ns() const { return timestamp_period_ns_; }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -98,6 +105,8 @@ class Context {
   VkPhysicalDeviceLimits limits_{};
   bool descriptor_indexing_ = false;
   bool depth_clamp_ = false;
+  PFN_vkCmdBeginConditionalRenderingEXT begin_conditional_ = nullptr;
+  PFN_vkCmdEndConditionalRenderingEXT end_conditional_ = nullptr;
   bool primitive_id_ = false;
   bool occlusion_query_precise_ = false;
   bool pipeline_statistics_ = false;

@@ -66,6 +66,8 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
   fills_.clear();
   bytes_.clear();
   triangles_.clear();
+  clusters_.clear();
+  drawn_scopes_.clear();
   counts_.clear();
   rasterized_scopes_.clear();
   quad_scopes_.clear();
@@ -84,6 +86,7 @@ uint32_t GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
   fills_.emplace_back();
   bytes_.push_back(0.0);
   triangles_.push_back(0.0);
+  clusters_.push_back(-1.0);
   stack_.push_back(scope);
   if (pool_) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, 2 * scope);
   return scope;
@@ -107,6 +110,29 @@ void GpuTimer::note_bytes(double bytes) {
 
 void GpuTimer::note_triangles(double triangles) {
   if (!stack_.empty()) triangles_[stack_.back()] += triangles;
+}
+
+void GpuTimer::note_clusters(double clusters) {
+  if (!stack_.empty())
+    clusters_[stack_.back()] = std::max(0.0, clusters_[stack_.back()]) + clusters;
+}
+
+void GpuTimer::note_drawn(VkCommandBuffer cmd, VkBuffer counter, VkDeviceSize offset) {
+  if (stack_.empty() || !pool_) return;
+  constexpr uint32_t kCapacity = 1024;  // notes a frame: one per culled view
+  ILLUM_CHECK(drawn_scopes_.size() < kCapacity, "more than {} GPU-counted views in one frame",
+              kCapacity);
+  if (!drawn_readback_)
+    drawn_readback_ = Buffer(*context_, kCapacity * 2 * sizeof(uint32_t),
+                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::kReadback);
+  const VkDeviceSize bytes = 2 * sizeof(uint32_t);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  const VkBufferCopy region{offset, drawn_scopes_.size() * bytes, bytes};
+  vkCmdCopyBuffer(cmd, counter, drawn_readback_.handle(), 1, &region);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+  drawn_scopes_.push_back(stack_.back());
 }
 
 void GpuTimer::set_counting(bool on, bool statistics) {
@@ -199,6 +225,17 @@ std::vector<PassTime> GpuTimer::resolve() const {
     const double ticks = static_cast<double>(stamps[2 * i + 1] - stamps[2 * i]);
     out.push_back({names_[i], ticks * context_->timestamp_period_ns() * 1e-6, depths_[i], fills_[i],
                    bytes_[i], triangles_[i]});
+    out.back().clusters = clusters_[i];
+  }
+  if (!drawn_scopes_.empty()) {
+    std::vector<uint32_t> counts(2 * drawn_scopes_.size());
+    drawn_readback_.read(counts.data(), counts.size() * sizeof(uint32_t));
+    for (size_t q = 0; q < drawn_scopes_.size(); ++q) {
+      const uint32_t scope = drawn_scopes_[q];
+      if (scope >= out.size()) continue;
+      out[scope].triangles += counts[2 * q];
+      out[scope].clusters = std::max(0.0, out[scope].clusters) + counts[2 * q + 1];
+    }
   }
   if (counting() && !counts_.empty()) {
     std::vector<uint64_t> samples(counts_.size());

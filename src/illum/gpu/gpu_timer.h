@@ -66,6 +66,9 @@ struct PassTime {
   // −1: not counted.
   double quads = -1.0;
   double quad_samples = -1.0;
+  // Clusters drawn (scene passes; with occlusion culling counted on the GPU, as are the
+  // triangles then); −1: not noted.
+  double clusters = -1.0;
 };
 
 class GpuTimer {
@@ -89,6 +92,11 @@ class GpuTimer {
   void note_fill(const RasterFill& fill, double count = 1.0);
   void note_bytes(double bytes);
   void note_triangles(double triangles);
+  void note_clusters(double clusters);
+  // Draws the CPU cannot count (predicated on GPU-written flags): `counter` holds two uint32 at
+  // `offset`, {triangles, clusters} drawn; copied out here (outside any rendering), they add
+  // to the innermost open scope's `triangles` and `clusters` after resolve().
+  void note_drawn(VkCommandBuffer cmd, VkBuffer counter, VkDeviceSize offset);
   // Counting frames: from the next reset() on, begin_count/end_count record occlusion queries
   // (precise where the device has occlusionQueryPrecise); otherwise they record nothing.
   // `statistics`: also count rasterized triangles (begin_rasterized), where the device can.
@@ -129,6 +137,9 @@ class GpuTimer {
   std::vector<std::vector<std::pair<RasterFill, double>>> fills_;  // per scope
   std::vector<double> bytes_;                                      // per scope
   std::vector<double> triangles_;                                  // per scope
+  std::vector<double> clusters_;                                   // per scope
+  Buffer drawn_readback_;               // {triangles, clusters} per note_drawn()
+  std::vector<uint32_t> drawn_scopes_;  // per note_drawn()
   // Counting frames.
   bool counting_ = false;
   bool statistics_on_ = false;

@@ -224,6 +224,34 @@ void PassContext::use(const std::string& resource, Uses uses, VkPipelineStageFla
   graph_->apply(resource, frame_, cmd_, uses, shaders);
 }
 
+PassContext::Aside::Aside(PassContext& pass, const std::string& name) : pass_(pass) {
+  if (!pass_.timer_ || !pass_.open_scope_) return;
+  pass_.timer_->end(pass_.cmd_, *pass_.open_scope_);
+  scope_ = pass_.timer_->begin(pass_.cmd_, name);
+}
+
+PassContext::Aside::~Aside() {
+  if (!pass_.timer_ || !pass_.open_scope_) return;
+  pass_.timer_->end(pass_.cmd_, scope_);
+  *pass_.open_scope_ = pass_.timer_->begin(pass_.cmd_, pass_.pass_->timer);
+}
+
+const std::string& PassContext::label() const {
+  return pass_->timer;
+}
+
+void PassContext::clusters(double count) {
+  if (timer_) timer_->note_clusters(count);
+}
+
+void PassContext::bytes(double count) {
+  if (timer_) timer_->note_bytes(count);
+}
+
+void PassContext::drawn(VkBuffer counter, VkDeviceSize offset) {
+  if (timer_) timer_->note_drawn(cmd_, counter, offset);
+}
+
 void PassContext::fill(const gpu::RasterFill& f, double count) {
   if (timer_) timer_->note_fill(f, count);
 }
@@ -566,6 +594,7 @@ std::vector<std::string> FrameGraph::execute(VkCommandBuffer cmd, uint64_t frame
     ctx.cmd_ = cmd;
     ctx.frame_ = frame;
     ctx.timer_ = gpu_timer;
+    ctx.open_scope_ = &open_scope;
     ctx.items_ = std::move(items);
     if (node.desc.cpu) {
       close();

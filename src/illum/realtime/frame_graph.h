@@ -170,6 +170,7 @@ class PassContext {
  public:
   VkCommandBuffer cmd() const { return cmd_; }
   uint64_t frame() const { return frame_; }
+  const std::string& label() const;  // the pass's timer scope label
   // Round-robin and on-change passes: the items due this frame (all, for other schedules).
   const std::vector<int>& items() const { return items_; }
   // A further access inside the pass (a dispatch reading what the previous one wrote, the
@@ -190,6 +191,23 @@ class PassContext {
     uint32_t scope_ = 0;
   };
   Scope scope(const std::string& name) { return Scope(timer_, cmd_, name); }
+  // A scope beside the pass's rather than inside it — compute work a raster pass records in
+  // its middle (occlusion culling between its two halves) — so the pass's time and bound
+  // leave it out: ends the pass's scope, opens `name` at the same depth, and on destruction
+  // reopens the pass's scope under its label (the renderer sums scopes of one name). Each
+  // costs two scopes: count them in PassDesc::nested_scopes.
+  class Aside {
+   public:
+    Aside(PassContext& pass, const std::string& name);
+    ~Aside();
+    Aside(const Aside&) = delete;
+    Aside& operator=(const Aside&) = delete;
+
+   private:
+    PassContext& pass_;
+    uint32_t scope_ = 0;
+  };
+  Aside aside(const std::string& name) { return Aside(*this, name); }
   // The raster work of the innermost open scope: `count` fills of the whole of `fill`'s
   // targets (a full-screen trivial pass into them is the bound of each).
   void fill(const gpu::RasterFill& fill, double count = 1.0);
@@ -203,8 +221,13 @@ class PassContext {
   // device: lavapipe crashes on occlusion queries around depth-tested draws in frames that
   // also build shadow volumes on the GPU).
   bool counts_tested() const;
-  // Triangles the innermost open scope submitted (its geometry bound).
+  // Triangles the innermost open scope submitted (its geometry bound), and its clusters.
   void triangles(double count);
+  void clusters(double count);
+  // Bytes of compute work the innermost open scope reads and writes (its memory bound).
+  void bytes(double count);
+  // Triangles and clusters counted on the GPU (gpu::GpuTimer::note_drawn).
+  void drawn(VkBuffer counter, VkDeviceSize offset);
   // Counting frames: of the draws recorded between the two calls, the triangles that reach
   // rasterization (gpu::PassTime::rasterized; nothing where the device cannot count them).
   uint32_t begin_rasterized();
@@ -224,6 +247,7 @@ class PassContext {
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   uint64_t frame_ = 0;
   gpu::GpuTimer* timer_ = nullptr;
+  uint32_t* open_scope_ = nullptr;  // the graph's open scope: Aside reopens it
   std::vector<int> items_;
 };
 

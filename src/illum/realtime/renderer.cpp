@@ -59,6 +59,7 @@ struct Renderer::Impl {
   VkFormat depth_format;
   FrameGlobals globals;
   FrameResources resources;
+  OcclusionCuller occlusion;
   SceneDrawer drawer;
   BakedData baked;
   FrameView view;
@@ -83,7 +84,8 @@ struct Renderer::Impl {
         depth_format(gpu::pick_depth_stencil_format(c)),
         globals(c, scene, lights.size()),
         resources(c),
-        drawer(scene, globals),
+        occlusion(c, scene, resources),
+        drawer(scene, globals, &occlusion),
         tctx(c, scene, globals, resources, drawer, depth_format),
         timer(c) {
     tctx.lights_ = &lights;
@@ -267,6 +269,8 @@ struct Renderer::Impl {
          last_camera->up != camera.up || last_camera->fov_y != camera.fov_y))
       graph->notify(kCameraChanged);
     last_camera = camera;
+    occlusion.set_enabled(settings.get<bool>("scene_draw.occlusion_culling"),
+                          settings.get<bool>("scene_draw.occlusion_culling_shadows"));
     update_view(camera);
     globals.update(view, settings, lights.size(), globals_width(), globals_height());
     for (const auto& t : techniques) t->update();
@@ -299,6 +303,11 @@ struct Renderer::Impl {
         it->bytes += t.bytes;
         it->triangles += t.triangles;
         if (t.rasterized >= 0.0) it->rasterized = std::max(0.0, it->rasterized) + t.rasterized;
+        if (t.quads >= 0.0) {
+          it->quads = std::max(0.0, it->quads) + t.quads;
+          it->quad_samples = std::max(0.0, it->quad_samples) + t.quad_samples;
+        }
+        if (t.clusters >= 0.0) it->clusters = std::max(0.0, it->clusters) + t.clusters;
         it->fills.insert(it->fills.end(), t.fills.begin(), t.fills.end());
       }
     }

@@ -143,10 +143,13 @@ void SceneDrawer::begin(VkCommandBuffer cmd, const DrawTargets& t) const {
   set_viewport(cmd, t.extent);
 }
 
-size_t SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
-                         VkPipelineLayout layout, const std::array<VkDescriptorSet, 3>& sets,
-                         const SceneView& view) const {
-  size_t triangles = 0;
+SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
+                                              VkPipelineLayout layout,
+                                              const std::array<VkDescriptorSet, 3>& sets,
+                                              const SceneView& view,
+                                              const std::vector<uint32_t>& order,
+                                              VkBuffer predicates) const {
+  Drawn drawn;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, globals_, sets);
   VkDeviceSize offset = 0;
@@ -157,16 +160,16 @@ size_t SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
   push.view_index = view.view_index;
   push.light_index = view.light_index;
   push.pad = view.mode;
-  const std::vector<uint32_t> order = visible_clusters(scene_, view);
   const std::vector<Cluster>& clusters = scene_.clusters();
   VkDescriptorSet bound = VK_NULL_HANDLE;
   int pushed_draw = -1;
   for (size_t k = 0; k < order.size();) {
     const Cluster& first = clusters[order[k]];
-    // Runs of clusters adjacent in the index buffer go out as one draw.
+    // Runs of clusters adjacent in the index buffer go out as one draw — unless each
+    // cluster's draw is predicated on its own flag.
     uint32_t count = first.index_count;
     size_t next = k + 1;
-    while (next < order.size() && order[next] == order[next - 1] + 1 &&
+    while (!predicates && next < order.size() && order[next] == order[next - 1] + 1 &&
            clusters[order[next]].draw == first.draw) {
       count += clusters[order[next]].index_count;
       ++next;
@@ -185,12 +188,24 @@ size_t SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
       }
       vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
     }
+    if (predicates)
+      occlusion_->context().begin_conditional(cmd, predicates, order[k] * sizeof(uint32_t));
     vkCmdDrawIndexed(cmd, count, 1, first.first_index, scene_.meshes()[d.mesh].vertex_offset,
                      first.first_triangle);
-    triangles += count / 3;
+    if (predicates) occlusion_->context().end_conditional(cmd);
+    drawn.triangles += count / 3;
+    drawn.clusters += next - k;
     k = next;
   }
-  return triangles;
+  return drawn;
+}
+
+size_t SceneDrawer::draw(VkCommandBuffer cmd, const gpu::Pipeline& pipeline,
+                         VkPipelineLayout layout, const std::array<VkDescriptorSet, 3>& sets,
+                         const SceneView& view) const {
+  return draw_clusters(cmd, pipeline, layout, sets, view, visible_clusters(scene_, view),
+                       VK_NULL_HANDLE)
+      .triangles;
 }
 
 void SceneDrawer::render(VkCommandBuffer cmd, const DrawTargets& targets,
@@ -202,6 +217,17 @@ void SceneDrawer::render(VkCommandBuffer cmd, const DrawTargets& targets,
   end(cmd);
 }
 
+namespace {
+
+// `targets` kept as they are: every colour and the depth loaded.
+DrawTargets loaded(DrawTargets t) {
+  for (DrawTargets::Color& c : t.colors) c.clear = c.undefined = false;
+  t.clear_depth = false;
+  return t;
+}
+
+}  // namespace
+
 void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
                                  const gpu::Pipeline& variant, const CountingPipelines& counter,
                                  VkPipelineLayout layout,
@@ -209,35 +235,84 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
                                  const gpu::RasterFill& passing,
                                  const gpu::RasterFill& rejected) const {
   const VkCommandBuffer cmd = pass.cmd();
-  if (pass.counts_quads() && counter.replays(targets)) {
-    // First the quads, with the pass's own tests from the same start: then the pass itself
-    // leaves the targets as every other frame does.
+  const std::vector<uint32_t> order = visible_clusters(scene_, view);
+  using Occlusion = SceneView::Occlusion;
+  const bool culling = occlusion_ && occlusion_->enabled(view.occlusion_key) && view.cull &&
+                       view.occlusion != Occlusion::kNone && cmd != VK_NULL_HANDLE;
+  const bool two_phase = culling && view.occlusion == Occlusion::kTwoPhase;
+  const OcclusionCuller::View* now =
+      culling && !two_phase ? occlusion_->culled(view.occlusion_key, pass.frame()) : nullptr;
+  // The predicates of each half the pass draws (VK_NULL_HANDLE: every listed cluster); the
+  // counting replays draw the same halves in one rendering.
+  std::vector<VkBuffer> halves = {now ? now->now_flags() : VK_NULL_HANDLE};
+  OcclusionCuller::View* culled = nullptr;
+  if (two_phase) {
+    culled = &occlusion_->begin(cmd, view.occlusion_key, pass.frame());
+    halves = {culled->early_flags(), culled->late.handle()};
+  }
+  auto draw_halves = [&](const gpu::Pipeline& p, VkPipelineLayout l,
+                         const std::array<VkDescriptorSet, 3>& s) {
+    Drawn all;
+    for (VkBuffer h : halves) {
+      const Drawn d = draw_clusters(cmd, p, l, s, view, order, h);
+      all.triangles += d.triangles;
+      all.clusters += d.clusters;
+    }
+    return all;
+  };
+  // Before the pass with occlusion culling: the quads are counted after it (the replay needs
+  // the predicates the culling between its halves writes) from the same start, the colours
+  // loaded (the quad count writes none) and the depth cleared again, ending as the pass did.
+  auto count_quads = [&](const DrawTargets& from) {
     const VkPipelineLayout quad_layout = globals_.quad_count_layout();
     pass.begin_quads(globals_.quad_counter());
-    begin(cmd, targets);
-    draw(cmd, counter.quads(quad_layout), quad_layout,
-         {globals_.quad_count_set(), sets[1], sets[2]}, view);
+    begin(cmd, from);
+    draw_halves(counter.quads(quad_layout), quad_layout,
+                {globals_.quad_count_set(), sets[1], sets[2]});
     end(cmd);
     pass.end_quads(globals_.quad_counter());
-  }
-  begin(cmd, targets);
+  };
+  const bool quads = pass.counts_quads() && counter.replays(targets);
+  if (quads && !culling) count_quads(targets);
   // Lavapipe crashes on occlusion queries around depth-tested draws in frames that also
   // build shadow volumes on the GPU: there every fragment counts as rejected (a lower bound).
+  // The queries span both halves and the culling between them, which draws nothing.
   const bool split = pass.counts_tested();
   const uint32_t passed = split ? pass.begin_count() : 0;
   const uint32_t rasterized = pass.begin_rasterized();
-  pass.triangles(static_cast<double>(draw(cmd, variant, layout, sets, view)));
+  DrawTargets first = targets;
+  first.store_depth = first.store_depth || two_phase;  // the culling and the second half read it
+  begin(cmd, first);
+  Drawn drawn = draw_clusters(cmd, variant, layout, sets, view, order, halves[0]);
+  if (two_phase) {
+    end(cmd);
+    occlusion_->cull(pass, *culled, targets.depth_resource, targets.extent, *view.cull, order,
+                     pass.label() + ".occlusion");
+    begin(cmd, loaded(targets));
+    draw_clusters(cmd, variant, layout, sets, view, order, halves[1]);
+  }
+  end(cmd);
   pass.end_rasterized(rasterized);
   if (split) pass.end_count(passed, passing);
-  end(cmd);
+  // What was drawn: counted by the culling shader where predicates chose it.
+  if (two_phase) {
+    pass.drawn(culled->stats.handle(), 0);
+  } else if (now) {
+    pass.drawn(now->stats.handle(), 2 * sizeof(uint32_t));
+  } else {
+    pass.triangles(static_cast<double>(drawn.triangles));
+    pass.clusters(static_cast<double>(order.size()));
+  }
+  if (quads && culling) {
+    DrawTargets from = targets;
+    for (DrawTargets::Color& c : from.colors) c.clear = c.undefined = false;
+    count_quads(from);
+  }
   if (!pass.counting()) return;
   // Everything rasterized, drawn again untested into the kept targets.
-  DrawTargets again = targets;
-  for (DrawTargets::Color& c : again.colors) c.clear = c.undefined = false;
-  again.clear_depth = false;
-  begin(cmd, again);
+  begin(cmd, loaded(targets));
   const uint32_t all = pass.begin_count();
-  draw(cmd, counter.rasterized(), layout, sets, view);
+  draw_halves(counter.rasterized(), layout, sets);
   pass.end_count(all, rejected, split ? static_cast<int>(passed) : -1);
   end(cmd);
 }

@@ -8,6 +8,7 @@
 #include <array>
 #include <initializer_list>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "illum/gpu/gpu_timer.h"
@@ -15,6 +16,7 @@
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_graph.h"
 #include "illum/realtime/gpu_scene.h"
+#include "illum/realtime/occlusion_culling.h"
 
 namespace illum::realtime {
 
@@ -39,6 +41,9 @@ struct DrawTargets {
   bool store_depth = true;
   bool stencil = false;  // the depth image's stencil is an attachment too
   VkExtent2D extent{};
+  // The depth's frame-graph resource: occlusion culling samples it between the pass's halves
+  // (the pass declares it kSampled in kComputeShader besides its attachment use).
+  std::string depth_resource;
 };
 
 // What a counting frame draws a scene pass with besides the pass's own pipeline:
@@ -85,12 +90,23 @@ struct SceneView {
   std::optional<mat4> cull;
   bool cull_depth = true;
   bool front_to_back = false;
+  // Occlusion culling (OcclusionCuller, when switched on): kTwoPhase for a pass that writes
+  // the depth from cleared (pre-pass, visibility raster, shadow views), kVisibleNow for one
+  // that tests against the depth such a pass of `occlusion_key` finished this frame (it then
+  // draws only the clusters that pass found visible).
+  enum class Occlusion { kNone, kTwoPhase, kVisibleNow };
+  Occlusion occlusion = Occlusion::kNone;
+  std::string occlusion_key;
 
-  // A colour or depth pass from the camera (`view_proj`: the frame's).
-  static SceneView camera(const mat4& view_proj, bool front_to_back) {
+  // A colour or depth pass from the camera (`view_proj`: the frame's); occlusion culled
+  // against the camera's depth ("camera") as `occlusion` says.
+  static SceneView camera(const mat4& view_proj, bool front_to_back,
+                          Occlusion occlusion = Occlusion::kNone) {
     SceneView v;
     v.cull = view_proj;
     v.front_to_back = front_to_back;
+    v.occlusion = occlusion;
+    v.occlusion_key = "camera";
     return v;
   }
 };
@@ -110,8 +126,9 @@ std::vector<uint32_t> visible_clusters(const GpuScene& scene, const SceneView& v
 
 class SceneDrawer {
  public:
-  SceneDrawer(const GpuScene& scene, const FrameGlobals& globals)
-      : scene_(scene), globals_(globals) {}
+  SceneDrawer(const GpuScene& scene, const FrameGlobals& globals,
+              OcclusionCuller* occlusion = nullptr)
+      : scene_(scene), globals_(globals), occlusion_(occlusion) {}
 
   // A rendering scope over `targets` with the viewport and scissor set to their extent.
   void begin(VkCommandBuffer cmd, const DrawTargets& targets) const;
@@ -144,8 +161,18 @@ class SceneDrawer {
                          VkExtent2D extent) const;
 
  private:
+  struct Drawn {
+    size_t triangles = 0, clusters = 0;
+  };
+  // Binds and draws `order`'s clusters; with `predicates` (one uint32 per cluster) each
+  // cluster is a draw of its own, predicated on its flag.
+  Drawn draw_clusters(VkCommandBuffer cmd, const gpu::Pipeline& pipeline, VkPipelineLayout layout,
+                      const std::array<VkDescriptorSet, 3>& sets, const SceneView& view,
+                      const std::vector<uint32_t>& order, VkBuffer predicates) const;
+
   const GpuScene& scene_;
   const FrameGlobals& globals_;
+  OcclusionCuller* occlusion_;
 };
 
 }  // namespace illum::realtime

@@ -148,7 +148,9 @@ class Deferred final : public FramePipeline {
     pre.name = "depth_prepass";
     pre.technique = name();
     pre.phase = Phase::kGeometry;
-    pre.accesses = {{"depth", kDepthAttachment}};
+    // Occlusion culling samples the depth between the pass's two halves, in a scope beside it.
+    pre.accesses = {{"depth", kDepthAttachment}, {"depth", kSampled, kComputeShader}};
+    pre.nested_scopes = 2;
     pre.record = [this](PassContext& pass) { record_prepass(pass); };
     graph.add_pass(std::move(pre));
     PassDesc g;
@@ -224,14 +226,15 @@ class Deferred final : public FramePipeline {
   void record_prepass(PassContext& pass) {
     DrawTargets t;
     t.depth = ctx_.resources.image("depth").layer_view(0);
+    t.depth_resource = "depth";
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
     ctx_.drawer.render_counted(
         pass, t, prepass_, prepass_count_, layout_.handle(), ctx_.shading_sets(set_),
-        SceneView::camera(ctx_.view().view_proj, true), {w, h, {}, ctx_.depth_format, D::kWrite},
-        {w, h, {}, ctx_.depth_format, D::kReject});
+        SceneView::camera(ctx_.view().view_proj, true, SceneView::Occlusion::kTwoPhase),
+        {w, h, {}, ctx_.depth_format, D::kWrite}, {w, h, {}, ctx_.depth_format, D::kReject});
   }
 
   void record_gbuffer(PassContext& pass) {
@@ -248,11 +251,11 @@ class Deferred final : public FramePipeline {
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
     const std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
-    ctx_.drawer.render_counted(pass, t, gbuffer_, gbuffer_count_, layout_.handle(),
-                               ctx_.shading_sets(set_),
-                               SceneView::camera(ctx_.view().view_proj, false),
-                               {w, h, mrt, ctx_.depth_format, D::kTest, false, kUncleared},
-                               {w, h, mrt, ctx_.depth_format, D::kReject, false, kUncleared});
+    ctx_.drawer.render_counted(
+        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_),
+        SceneView::camera(ctx_.view().view_proj, false, SceneView::Occlusion::kVisibleNow),
+        {w, h, mrt, ctx_.depth_format, D::kTest, false, kUncleared},
+        {w, h, mrt, ctx_.depth_format, D::kReject, false, kUncleared});
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.

@@ -68,18 +68,21 @@ class Forward final : public FramePipeline {
     pre.name = "depth_prepass";
     pre.technique = name();
     pre.phase = Phase::kGeometry;
-    pre.accesses = {{"depth", kDepthAttachment}};
+    // Occlusion culling samples the depth between the pass's two halves, in a scope beside it.
+    pre.accesses = {{"depth", kDepthAttachment}, {"depth", kSampled, kComputeShader}};
+    pre.nested_scopes = 2;
     pre.record = [this, extent](PassContext& pass) {
       DrawTargets t;
       t.depth = ctx_.resources.image("depth").layer_view(0);
+      t.depth_resource = "depth";
       t.stencil = true;
       t.extent = extent;
       using D = gpu::RasterFill::Depth;
-      ctx_.drawer.render_counted(pass, t, prepass_, prepass_count_, ctx_.globals.default_layout(),
-                                 ctx_.shading_sets(),
-                                 SceneView::camera(ctx_.view().view_proj, true),
-                                 {extent.width, extent.height, {}, ctx_.depth_format, D::kWrite},
-                                 {extent.width, extent.height, {}, ctx_.depth_format, D::kReject});
+      ctx_.drawer.render_counted(
+          pass, t, prepass_, prepass_count_, ctx_.globals.default_layout(), ctx_.shading_sets(),
+          SceneView::camera(ctx_.view().view_proj, true, SceneView::Occlusion::kTwoPhase),
+          {extent.width, extent.height, {}, ctx_.depth_format, D::kWrite},
+          {extent.width, extent.height, {}, ctx_.depth_format, D::kReject});
     };
     graph.add_pass(std::move(pre));
     PassDesc p;
@@ -96,7 +99,8 @@ class Forward final : public FramePipeline {
       t.clear_depth = false;
       t.stencil = true;
       t.extent = extent;
-      SceneView view = SceneView::camera(ctx_.view().view_proj, false);
+      SceneView view =
+          SceneView::camera(ctx_.view().view_proj, false, SceneView::Occlusion::kVisibleNow);
       view.mode = masked_ ? 1 : 0;
       using D = gpu::RasterFill::Depth;
       const uint32_t w = extent.width, h = extent.height;

@@ -115,7 +115,11 @@ class ShadowMaps final : public ShadowMethod {
       p.name = "cascades";
       p.technique = name();
       p.phase = Phase::kShadows;
-      p.accesses = {{"shadow.cascades", kColorAttachment}, {"shadow.depth", kDepthAttachment}};
+      // Occlusion culling samples the depth between each view's two halves.
+      p.accesses = {{"shadow.cascades", kColorAttachment},
+                    {"shadow.depth", kDepthAttachment},
+                    {"shadow.depth", kSampled, kComputeShader}};
+      p.nested_scopes = 2 * kCascades;
       p.record = [this](PassContext& pass) {
         for (int k = 0; k < kCascades; ++k)
           render_view(pass, ortho_, ortho_count_, "shadow.cascades", static_cast<uint32_t>(k),
@@ -137,6 +141,7 @@ class ShadowMaps final : public ShadowMethod {
       p.accesses.push_back({"shadow.spots", kColorAttachment});
     }
     p.accesses.push_back({"shadow.depth", kDepthAttachment});
+    p.accesses.push_back({"shadow.depth", kSampled, kComputeShader});
     // The maps depend on the lights and the geometry only (bias, PCF and τ are applied
     // when they are looked up).
     const Changes changes = kLightsChanged | kGeometryChanged;
@@ -145,6 +150,7 @@ class ShadowMaps final : public ShadowMethod {
                  : update_period_ > 0 ? Schedule::every_n(update_period_, 0, changes)
                                       : Schedule::on_change(changes);
     p.schedule.items = items;
+    p.nested_scopes = 2 * items;  // each view's occlusion culling, beside the pass's scope
     p.record = [this](PassContext& pass) {
       const size_t cube_views = 6 * cube_lights_.size();
       for (int v : pass.items()) {
@@ -254,6 +260,7 @@ class ShadowMaps final : public ShadowMethod {
     DrawTargets t;
     t.colors = {{ctx_.resources.image(target).layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}}}};
     t.depth = ctx_.resources.image("shadow.depth").view();
+    t.depth_resource = "shadow.depth";
     t.store_depth = false;
     t.extent = {resolution_, resolution_};
     SceneView v;
@@ -263,6 +270,8 @@ class ShadowMaps final : public ShadowMethod {
     v.cull = view_matrices_.at(static_cast<size_t>(view));
     v.cull_depth = &pipeline != &ortho_;  // the cascades clamp casters behind their near plane
     v.front_to_back = true;
+    v.occlusion = SceneView::Occlusion::kTwoPhase;
+    v.occlusion_key = "shadow." + std::to_string(view);  // every view keeps its own history
     using D = gpu::RasterFill::Depth;
     ctx_.drawer.render_counted(
         pass, t, pipeline, counter, ctx_.globals.default_layout(),

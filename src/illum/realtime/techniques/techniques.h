@@ -10,6 +10,7 @@
 namespace illum::realtime {
 
 TechniqueDecl lighting_technique();       // globals: lighting.cpp
+TechniqueDecl scene_draw_technique();     // globals: scene_draw.cpp
 TechniqueDecl forward_technique();        // forward.cpp
 TechniqueDecl deferred_technique();       // deferred.cpp
 TechniqueDecl visibility_technique();     // visibility.cpp

@@ -133,7 +133,10 @@ class Visibility final : public FramePipeline {
     p.name = "visibility";
     p.technique = name();
     p.phase = Phase::kGeometry;
-    p.accesses = {{kIds, kColorAttachment}, {"depth", kDepthAttachment}};
+    // Occlusion culling samples the depth between the pass's two halves, in a scope beside it.
+    p.accesses = {
+        {kIds, kColorAttachment}, {"depth", kDepthAttachment}, {"depth", kSampled, kComputeShader}};
+    p.nested_scopes = 2;
     p.record = [this](PassContext& pass) { record_ids(pass); };
     graph.add_pass(std::move(p));
     const uint64_t tiles = uint64_t((ctx_.width() + 7) / 8) * ((ctx_.height() + 7) / 8);
@@ -197,9 +200,11 @@ class Visibility final : public FramePipeline {
     // Undefined where nothing is drawn: the classification and the resolve test the depth.
     t.colors = {{ctx_.resources.image(kIds).view(), false, {}, true}};
     t.depth = ctx_.resources.image("depth").layer_view(0);
+    t.depth_resource = "depth";
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
-    SceneView view = SceneView::camera(ctx_.view().view_proj, true);
+    SceneView view =
+        SceneView::camera(ctx_.view().view_proj, true, SceneView::Occlusion::kTwoPhase);
     view.mode = packing_.triangle_bits;  // push.pad, read by visibility.frag
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;

@@ -1,0 +1,27 @@
+// The scene-draw globals: how SceneDrawer draws the scene from a view (realtime/scene_draw.h).
+#include "illum/realtime/techniques/techniques.h"
+
+namespace illum::realtime {
+
+TechniqueDecl scene_draw_technique() {
+  TechniqueDecl t;
+  t.name = "scene_draw";
+  t.kind = TechniqueKind::kGlobal;
+  t.summary =
+      "drawing the scene from a view: clusters culled against the view's frustum, sorted front "
+      "to back, and (where the device has VK_EXT_conditional_rendering) against the depth";
+  t.params = {
+      bool_param("occlusion_culling", true,
+                 "two-phase GPU occlusion culling of clusters in the depth pre-pass, the "
+                 "visibility raster and the shadow views (realtime/occlusion_culling.h); the "
+                 "image does not change")
+          .aka("occlusion_culling"),
+      bool_param("occlusion_culling_shadows", true,
+                 "occlusion culling in the shadow views too (spot maps, cube faces, cascades: "
+                 "many more clusters, each a predicated draw)")
+          .aka("occlusion_culling_shadows"),
+  };
+  return t;
+}
+
+}  // namespace illum::realtime
