@@ -7,8 +7,8 @@
 #   bench/raster_bounds.sh ILLUM ILLUM_BENCH OUTDIR
 #   SCENES="cornell sibenik" SIZES="960x540 1920x1080 3840x2160" PIPELINES="forward deferred"
 #   FRAMES=200 WARMUP=20 REPEATS=50   (environment, defaults shown)
-#   PARAMS="-p occlusion_culling=false"  (environment: more `illum frame` arguments, e.g. the
-#   occlusion culling switched off; default none)
+#   PARAMS="-p occlusion_culling=true"  (environment: more `illum frame` arguments, e.g. the
+#   occlusion culling switched on; default none)
 #
 # Writes OUTDIR/SCENE-WxH-PIPELINE-{every,cached}.{json,txt}, OUTDIR/raster.{json,txt}.
 # Exit 2 on bad arguments.

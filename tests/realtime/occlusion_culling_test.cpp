@@ -5,6 +5,7 @@
 // triangles drawn behind a big occluder drop, counted on the GPU; the first frame draws all.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -106,6 +107,11 @@ TEST_F(OcclusionCulling, BigOccluderDropsTheClustersDrawnAndTheImageStays) {
     const auto times = expect_identical(scene, pipeline, path, 64, 48);
     const std::string raster = pipeline == "visibility" ? "visibility" : "depth_prepass";
     std::vector<double> clusters, triangles, shadow_clusters;
+    // The pyramid and the test are timed beside the pass they cull, in a scope of their own.
+    for (const std::string& scope : {raster + ".occlusion", std::string("shadow_maps.occlusion")})
+      EXPECT_TRUE(std::any_of(times[1].begin(), times[1].end(),
+                              [&](const gpu::PassTime& t) { return t.name == scope; }))
+          << scope << " is not timed";
     for (const auto& frame : times)
       for (const gpu::PassTime& t : frame) {
         if (t.name == raster && t.depth == 0) {

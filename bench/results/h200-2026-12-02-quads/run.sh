@@ -5,8 +5,8 @@
 #   bash bench/results/h200-2026-12-02-quads/run.sh NAME "SIZES" "PIPELINES" (from the
 #   repository root, the bundle in .device; this folder: quads1 "960x540 1920x1080 3840x2160"
 #   "visibility deferred forward")
-# Occlusion culling is on by default since its commit; PARAMS="-p occlusion_culling=false"
-# in the environment (passed on to bench/raster_bounds.sh) measures without it.
+# PARAMS in the environment is passed on to bench/raster_bounds.sh (`illum frame` arguments,
+# e.g. PARAMS="-p occlusion_culling=true"; culling is off by default).
 set -u
 name=$1 sizes=$2 pipelines=$3
 for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig

@@ -11,10 +11,13 @@ TechniqueDecl scene_draw_technique() {
       "drawing the scene from a view: clusters culled against the view's frustum, sorted front "
       "to back, and (where the device has VK_EXT_conditional_rendering) against the depth";
   t.params = {
-      bool_param("occlusion_culling", true,
+      // Off by default: on the H200 it made Sibenik's visibility frame 2.007 -> 2.320 ms
+      // (bench/results/h200-2026-12-02-occlusion): its views hide almost no whole cluster,
+      // and each predicated draw and the pyramid cost time.
+      bool_param("occlusion_culling", false,
                  "two-phase GPU occlusion culling of clusters in the depth pre-pass, the "
                  "visibility raster and the shadow views (realtime/occlusion_culling.h); the "
-                 "image does not change")
+                 "image does not change; pays where views hide whole clusters")
           .aka("occlusion_culling"),
       bool_param("occlusion_culling_shadows", true,
                  "occlusion culling in the shadow views too (spot maps, cube faces, cascades: "
