@@ -218,6 +218,18 @@ struct SampleMean {
   double mean = 0.0, spread = 0.0, error = 0.0;
 };
 
+// Every patch's bounce share (its red transfer over T0 = 1, less the 1) must average
+// `expected` within 5 standard errors of the mean over patches plus `allowance` (what the
+// shooting may leave unshot).
+void expect_mean_bounce_share(const std::vector<float>& transfer, double expected,
+                              double allowance) {
+  std::vector<double> share(transfer.size() / 3);
+  for (size_t k = 0; k < share.size(); ++k) share[k] = double(transfer[k * 3]) - 1.0;
+  const SampleMean m(share);
+  EXPECT_NEAR(m.mean, expected, kZ * m.error + allowance)
+      << "patches " << share.size() << ", spread " << m.spread;
+}
+
 // A closed box of albedo a whose every patch starts with the same transfer T0 (a stand-in
 // for direct light): every point then sees only the box, so T = T0 + a·T everywhere and
 // T = T0/(1 − a), the bounce share a/(1 − a). Shooting conserves what it shoots (every ray
@@ -258,11 +270,7 @@ TEST(PrtShooting, ClosedFurnaceBoxConvergesToAlbedoOverOneMinusAlbedo) {
     // rays per round); the mean over patches must agree within its standard error, which a
     // wrong patch area (a texel's clipped area, a vertex's third) would break at chart
     // borders and corners.
-    std::vector<double> share(set.patches.size());
-    for (size_t k = 0; k < share.size(); ++k) share[k] = double(transfer[k * 3]) - 1.0;
-    const SampleMean m(share);
-    EXPECT_NEAR(m.mean, expected, kZ * m.error + expected * options.tolerance)
-        << "patches " << share.size() << ", spread " << m.spread;
+    expect_mean_bounce_share(transfer, expected, expected * options.tolerance);
   }
 }
 
@@ -273,8 +281,8 @@ TEST(PrtShooting, ClosedFurnaceBoxConvergesToAlbedoOverOneMinusAlbedo) {
 // T = T0 + a·T again, the bounce share a/(1 − a) on every front. Dropping the light that
 // lands on the panel's back (5–9 % of the shot light here) took the texels' mean share to
 // 1.33. Tolerance: 5 standard errors of the mean over patches (the spread of the per-patch
-// shares over √N, N ≈ 2 200 texels or 42 vertices) plus the unshot remainder, as above. The shares of the
-// shot light: nothing escapes or is lost in a closed box, and the backs get their part.
+// shares over √N, N ≈ 2 200 texels or 42 vertices) plus the unshot remainder, as above. The shares
+// of the shot light: nothing escapes or is lost in a closed box, and the backs get their part.
 TEST(PrtShooting, SingleSidedPanelInAFurnaceBoxReflectsOnBothSides) {
   const float a = 0.6f;
   Scene scene;
@@ -314,11 +322,7 @@ TEST(PrtShooting, SingleSidedPanelInAFurnaceBoxReflectsOnBothSides) {
     EXPECT_NEAR(result.shares.lost, 0.0, 1e-9);
     EXPECT_GT(result.shares.back, 0.03);  // about 5 % here: not vacuous
     EXPECT_NEAR(result.shares.front + result.shares.back + result.shares.below, 1.0, 1e-6);
-    std::vector<double> share(set.patches.size());
-    for (size_t k = 0; k < share.size(); ++k) share[k] = double(transfer[k * 3]) - 1.0;
-    const SampleMean m(share);
-    EXPECT_NEAR(m.mean, expected, kZ * m.error + expected * options.tolerance)
-        << "patches " << share.size() << ", spread " << m.spread;
+    expect_mean_bounce_share(transfer, expected, expected * options.tolerance);
   }
 }
 
