@@ -11,8 +11,9 @@
 # Writes into OUTDIR: prt_vs_path_sibenik.png (the grid: a row per light — relit, path tracer
 # under the band-limited light, path tracer under the true light, |relit − path| × 4),
 # sibenik.json (every figure), sibenik.txt (the printed summary), log.txt (with the wall
-# time) and command.txt. `small` is the smoke test: same lights, tiny sizes (about 110 s on two
-# cores since the shooting's relative stop rule; 6 s before). THREADS (default: all cores) sets the worker count; RESOLUTION,
+# time) and command.txt. `small` is the smoke test: same lights, tiny sizes (about 110 s on
+# two cores since the shooting's relative stop rule; 6 s before). THREADS (default: all
+# cores) sets the worker count; RESOLUTION,
 # BAKE_SPP, WIDTH, HEIGHT and PATH_SPP override the full run's sizes (1024, 128, 192, 128,
 # 1024). Path-tracing time grows as WIDTH·HEIGHT·PATH_SPP (15 images: 5 a light), the bake
 # as RESOLUTION²·BAKE_SPP (two bakes).
