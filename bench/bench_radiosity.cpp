@@ -32,6 +32,7 @@ struct RadiosityArgs {
   int resolution = 48;
   int reference_spp = 4096;
   double threshold = bake::kDefaultRadiosityThreshold;
+  double relative_threshold = bake::kDefaultRadiosityRelativeThreshold;
   int max_spp = 4096;
   std::vector<double> cluster_ratios{bake::kDefaultClusterRatio};
   int threads = 0;
@@ -91,6 +92,9 @@ int run_radiosity(SuiteArgs args) {
   app.add_option("--reference-spp", a.reference_spp, "spp of the reference path bake")
       ->check(CLI::Range(1, 1 << 20))
       ->capture_default_str();
+  app.add_option("--relative-threshold", a.relative_threshold,
+                 "radiosity's mean relative unshot stop (1: off, the total rule alone)")
+      ->check(CLI::Range(1e-9, 1.0));
   app.add_option("--threshold", a.threshold, "radiosity convergence threshold")
       ->check(CLI::Range(1e-9, 0.999))
       ->capture_default_str();
@@ -141,6 +145,7 @@ int run_radiosity(SuiteArgs args) {
   radiosity.progress = false;
   radiosity.dilate = 0;
   radiosity.threshold = a.threshold;
+  radiosity.relative_threshold = a.relative_threshold;
   nlohmann::json radiosity_runs = nlohmann::json::array();
   bake::RadiosityBake r;
   double radiosity_error = 0.0;
@@ -150,16 +155,20 @@ int run_radiosity(SuiteArgs args) {
     radiosity_error = relative_rmse(raster, r.layers[0], reference.layers[0]);
     std::printf(
         "radiosity threshold %g, cluster ratio %g: %.3fs, %lld shots, %lld visibility rays "
-        "(%.1f per shot), %lld shared clusters, relative RMSE %.4f\n",
+        "(%.1f per shot), %lld shared clusters, relative RMSE %.4f; relative threshold %g: "
+        "mean relative unshot %.4f, %lld shots for it\n",
         a.threshold, ratio, r.seconds, (long long)r.shots, (long long)r.visibility_rays,
         double(r.visibility_rays) / double(std::max<int64_t>(r.shots, 1)),
-        (long long)r.shared_clusters, radiosity_error);
+        (long long)r.shared_clusters, radiosity_error, a.relative_threshold, r.relative_unshot,
+        (long long)r.relative_shots);
     std::fflush(stdout);
     radiosity_runs.push_back({{"cluster_ratio", ratio},
                               {"seconds", r.seconds},
                               {"shots", r.shots},
                               {"visibility_rays", r.visibility_rays},
                               {"shared_clusters", r.shared_clusters},
+                              {"relative_unshot", r.relative_unshot},
+                              {"relative_shots", r.relative_shots},
                               {"relative_rmse", radiosity_error}});
   }
 
@@ -195,6 +204,7 @@ int run_radiosity(SuiteArgs args) {
                            {"reference_spp", a.reference_spp},
                            {"reference_noise", reference_noise},
                            {"radiosity_threshold", a.threshold},
+                           {"radiosity_relative_threshold", a.relative_threshold},
                            {"radiosity_seconds", r.seconds},
                            {"radiosity_shots", r.shots},
                            {"radiosity_runs", radiosity_runs},

@@ -336,6 +336,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   if (radiosity)
     set.bake = {{"method", "radiosity"},
                 {"threshold", radiosity_options.threshold},
+                {"relative_threshold", radiosity_options.relative_threshold},
                 {"group_size", radiosity_options.group_size},
                 {"samples_per_surface", radiosity_options.samples_per_surface},
                 {"sky_rays", radiosity_options.sky_rays},
@@ -348,6 +349,8 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                 {"shots", radiosity_baked.shots},
                 {"visibility_rays", radiosity_baked.visibility_rays},
                 {"initial_power", radiosity_baked.initial_power},
+                {"relative_unshot", radiosity_baked.relative_unshot},
+                {"relative_shots", radiosity_baked.relative_shots},
                 {"remaining_power", radiosity_baked.remaining_power},
                 {"converged", radiosity_baked.converged}};
   else {

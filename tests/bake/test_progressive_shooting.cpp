@@ -218,6 +218,96 @@ TEST(ProgressiveShooting, RefusesABadThreshold) {
     options.threshold = bad;
     EXPECT_THROW(shoot_progressively(set, total, unshot, ClosedCube{}, options), Error);
   }
+  options.threshold = 1e-3;
+  for (double bad : {0.0, 1.5, std::nan("")}) {
+    options.relative_threshold = bad;
+    EXPECT_THROW(shoot_progressively(set, total, unshot, ClosedCube{}, options), Error);
+  }
+}
+
+// Two closed unit cubes of albedo a far apart, the second's emission 10⁴× dimmer (the PRT
+// DimRoom test's scene, tests/bake/test_prt_baker.cpp). Each cube on its own is the furnace
+// above: its exact mean irradiance is E/(1−a). Patches see only their own cube.
+ShootingPatches two_cubes(int m, int* first_of_dim) {
+  ShootingPatches bright = cube_patches(m), dim = cube_patches(m);
+  *first_of_dim = int(bright.patches.size());
+  ShootingPatches set = bright;
+  set.grid_width = 2 * bright.grid_width;
+  set.patch_at.assign(size_t(set.grid_width) * size_t(set.grid_height), -1);
+  set.surface_count = 2 * bright.surface_count;
+  for (ShootingPatch p : dim.patches) {
+    p.position += vec3(100.0f, 0.0f, 0.0f);
+    p.x += bright.grid_width;
+    p.surface += bright.surface_count;
+    set.patches.push_back(p);
+  }
+  for (size_t i = 0; i < set.patches.size(); ++i)
+    set.patch_at[size_t(set.patches[i].y) * size_t(set.grid_width) + size_t(set.patches[i].x)] =
+        int32_t(i);
+  return set;
+}
+
+struct TwoClosedCubes : ClosedCube {
+  int first_of_dim = 0;
+  const ShootingPatches* set = nullptr;
+  bool visible(const ShotSource& s, int receiver) const {
+    return (s.centre >= first_of_dim) == (receiver >= first_of_dim);
+  }
+};
+
+// Measured with the total rule alone (threshold 1e-3): 442 shots, the bright cube's mean
+// 0.99911 of exact, the dim cube's 0 (its emission, 10⁻⁴ of the power, is never shot).
+//
+// Bound with the relative rule τ: the mean relative unshot over both cubes (equal areas) is
+// ≤ τ, so the dim cube's is ≤ 2τ. Its patches' unshot U_i = r_i·S_i with S_i (all they were
+// given to shoot) ≤ B∞_max, the converged discrete exitance's largest value; with the
+// conservation scaling every unit of unshot power adds 1/(1−a) of arrived power once shot,
+// so the dim cube's mean irradiance lacks ΔH ≤ 2τ·B∞_max/(1−a). The loop is deterministic
+// (exact visibility, conserving form factors): no sampling noise, only float sums (1e-5
+// relative, as ClosedCubeMeanIsExactWithinTheThreshold). B∞_max is taken from one cube
+// solved to 1e-6.
+TEST(ProgressiveShooting, DimRoomBesideABrightOneConvergesToo) {
+  int first_of_dim = 0;
+  const ShootingPatches set = two_cubes(8, &first_of_dim);
+  TwoClosedCubes cubes;
+  cubes.first_of_dim = first_of_dim;
+  const float bright = 1.0f, dim = 1e-4f;
+  std::vector<Color> total(set.patches.size(), Color(0.0f)), unshot(set.patches.size());
+  for (size_t i = 0; i < unshot.size(); ++i)
+    unshot[i] = Color(int(i) >= first_of_dim ? dim : bright);
+  ShootingOptions options;
+  options.threshold = 1e-3;
+  options.relative_threshold = 0.01;
+  options.progress = false;
+  const ShootingStats stats = shoot_progressively(set, total, unshot, cubes, options);
+  EXPECT_TRUE(stats.converged);
+  EXPECT_LE(stats.relative_unshot, options.relative_threshold);
+  double sum[2] = {0, 0}, area[2] = {0, 0};
+  for (size_t i = 0; i < total.size(); ++i) {
+    const int box = int(i) >= first_of_dim;
+    sum[box] += double(total[i].x) * set.patches[i].area;
+    area[box] += set.patches[i].area;
+  }
+  const double exact_bright = bright / (1.0 - cubes.albedo), exact_dim = dim / (1.0 - cubes.albedo);
+  const double bright_ratio = sum[0] / area[0] / exact_bright;
+  const double dim_ratio = sum[1] / area[1] / exact_dim;
+  std::printf(
+      "shots %lld (%lld by relative unshot), remaining %.3g of initial, relative unshot %.4f; "
+      "bright mean/exact %.6f, dim mean/exact %.6f\n",
+      (long long)stats.shots, (long long)stats.relative_shots,
+      stats.remaining_power / stats.initial_power, stats.relative_unshot, bright_ratio, dim_ratio);
+
+  const Solution reference = solve(cube_patches(8), ClosedCube{}, 1e-6, 1.0f);
+  double converged_max = 0.0;  // B∞_max / E
+  for (const Color& h : reference.total)
+    converged_max = std::max(converged_max, 1.0 + double(cubes.albedo) * double(h.x));
+  const double bound = 2.0 * options.relative_threshold * converged_max;  // ΔH / exact
+  std::printf("dim cube's derived bound: mean/exact ≥ %.4f (B∞_max/E = %.4f)\n", 1.0 - bound,
+              converged_max);
+  EXPECT_LE(bright_ratio, 1.0 + 1e-5);
+  EXPECT_GE(bright_ratio, 1.0 - options.threshold - 1e-5);
+  EXPECT_LE(dim_ratio, 1.0 + 1e-5);
+  EXPECT_GE(dim_ratio, 1.0 - bound - 1e-5) << "bound " << bound;
 }
 
 }  // namespace

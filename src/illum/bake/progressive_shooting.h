@@ -10,7 +10,9 @@
 //
 // Shooter choice, as CaLight: the patch of largest unshot power among `samples_per_surface`
 // random patches of every surface; only when that patch is below the per-patch threshold, a
-// full search; when that finds none either, the loop ends. Power is magnitude(unshot)·area.
+// full search; when that finds none either, the total rule holds. Power is
+// magnitude(unshot)·area. Then, while the patches' mean relative unshot is above
+// relative_threshold (ShootingOptions), the patch of largest area × relative unshot shoots.
 //
 // Form factor (received exitance per unit source power, without square roots):
 //   k = (n_s·d)(−n_r·d) / (|d|² (π|d|² + A_s)),   d = receiver − source.
@@ -73,6 +75,15 @@ struct ShootingOptions {
   // power. The per-patch threshold of the shooter choice is threshold × initial / patches,
   // so a full search that finds nothing above it implies the total criterion.
   double threshold = 1e-3;
+  // ... and when the area-weighted mean over patches of their relative unshot is at most
+  // relative_threshold. A patch's relative unshot is min(1, magnitude(unshot) / emitted),
+  // emitted being the magnitudes of its initial unshot and of all it has re-emitted since
+  // (patches that never held light do not count). The total rule alone is dominated by the
+  // brightest region: a closed room 10⁴× dimmer than another holds 10⁻⁴ of the power and is
+  // never shot at all (ProgressiveShooting.DimRoomBesideABrightOneConvergesToo). Once the
+  // total rule holds, shooters are chosen by area × relative unshot (a full search), so the
+  // loop spends its further shots where the mean is. In (0, 1]; 1 turns the rule off.
+  double relative_threshold = 0.05;
   int samples_per_surface = 10;  // the seed's [10]
   int group_size = 3;            // the seed's [n = 3]: n×n patches shoot as one
   uint64_t seed = 0;
@@ -93,6 +104,8 @@ struct ShootingStats {
   int64_t full_searches = 0;
   double initial_power = 0.0;
   double remaining_power = 0.0;  // unshot power left (Σ magnitude·area)
+  double relative_unshot = 0.0;  // the mean relative unshot above, when the loop stopped
+  int64_t relative_shots = 0;    // shots chosen by relative unshot (after the total rule held)
   bool converged = false;        // false: stopped by max_shots or the time budget
   // The conservation scaling's reach / Σ k·A_r per shot (1 without it), its extremes and
   // its mean weighted by the shot's power: how far the form factors' sum was from the
@@ -142,6 +155,9 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   if (!(options.threshold >= 0.0) || !std::isfinite(options.threshold))
     throw Error(
         fmt::format("shooting: threshold {} must be a finite number ≥ 0", options.threshold));
+  if (!(options.relative_threshold > 0.0 && options.relative_threshold <= 1.0))
+    throw Error(fmt::format("shooting: relative_threshold {} must lie in (0, 1]",
+                            options.relative_threshold));
   if (options.samples_per_surface < 1 || options.group_size < 1)
     throw Error(fmt::format("shooting: samples_per_surface {} and group_size {} must be ≥ 1",
                             options.samples_per_surface, options.group_size));
@@ -182,6 +198,21 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   }
 
   stats.initial_power = sum_chunks(power_of);
+  // Per patch: Σ magnitude of what it was given to shoot (initial unshot, then reflections).
+  std::vector<double> emitted(static_cast<size_t>(n));
+  for (int64_t i = 0; i < n; ++i) emitted[size_t(i)] = transport.magnitude(unshot[size_t(i)]);
+  auto relative_of = [&](int64_t i) {
+    const double e = emitted[size_t(i)];
+    return e > 0.0 ? std::min(1.0, transport.magnitude(unshot[size_t(i)]) / e) : 0.0;
+  };
+  auto relative_unshot = [&] {
+    const double lit_area = sum_chunks([&](int64_t i) {
+      return emitted[size_t(i)] > 0.0 ? double(patches[size_t(i)].area) : 0.0;
+    });
+    const double weighted =
+        sum_chunks([&](int64_t i) { return relative_of(i) * double(patches[size_t(i)].area); });
+    return lit_area > 0.0 ? weighted / lit_area : 0.0;
+  };
   double remaining = stats.initial_power;
   const double stop_total = options.threshold * stats.initial_power;
   const double stop_patch = stop_total / double(n);
@@ -199,7 +230,15 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   const double log_span =
       std::log(std::max(1.0, stats.initial_power / std::max(stop_total, 1e-300)));
 
-  while (remaining > stop_total) {
+  bool total_rule_held = remaining <= stop_total;
+  while (true) {
+    if (total_rule_held) {
+      stats.relative_unshot = relative_unshot();
+      if (stats.relative_unshot <= options.relative_threshold) {
+        stats.converged = true;
+        break;
+      }
+    }
     if (interrupt_requested()) throw Interrupted{};
     if (options.max_shots > 0 && stats.shots >= options.max_shots) break;
     if (options.time_budget_s > 0.0 &&
@@ -207,28 +246,43 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
             options.time_budget_s)
       break;
 
-    // Shooter: the largest of samples_per_surface random patches of every surface.
-    Rng rng(hash_mix(options.seed, uint64_t(stats.shots), 0x5400u));
     int best = -1;
-    double best_power = -1.0;
-    for (const std::vector<int>& surface : by_surface) {
-      if (surface.empty()) continue;
-      for (int k = 0; k < options.samples_per_surface; ++k) {
-        const int i = surface[rng.next_bounded(uint32_t(surface.size()))];
-        const double p = power_of(i);
-        if (p > best_power) best_power = p, best = i;
+    if (!total_rule_held) {
+      // Shooter: the largest of samples_per_surface random patches of every surface.
+      Rng rng(hash_mix(options.seed, uint64_t(stats.shots), 0x5400u));
+      double best_power = -1.0;
+      for (const std::vector<int>& surface : by_surface) {
+        if (surface.empty()) continue;
+        for (int k = 0; k < options.samples_per_surface; ++k) {
+          const int i = surface[rng.next_bounded(uint32_t(surface.size()))];
+          const double p = power_of(i);
+          if (p > best_power) best_power = p, best = i;
+        }
       }
-    }
-    if (best_power <= stop_patch) {  // full search only below the threshold, as CaLight
-      ++stats.full_searches;
+      if (best_power <= stop_patch) {  // full search only below the threshold, as CaLight
+        ++stats.full_searches;
+        for (int64_t i = 0; i < n; ++i) {
+          const double p = power_of(i);
+          if (p > best_power) best_power = p, best = int(i);
+        }
+        if (best_power <= stop_patch) {
+          total_rule_held = true;
+          continue;
+        }
+      }
+    } else {
+      // The total rule holds but the mean relative unshot does not: the patch adding most
+      // to that mean shoots (a full search; the shot itself visits every patch anyway).
+      double best_share = 0.0;
       for (int64_t i = 0; i < n; ++i) {
-        const double p = power_of(i);
-        if (p > best_power) best_power = p, best = int(i);
+        const double share = relative_of(i) * double(patches[size_t(i)].area);
+        if (share > best_share) best_share = share, best = int(i);
       }
-      if (best_power <= stop_patch) {
+      if (best < 0) {  // nothing unshot anywhere: the mean is 0
         stats.converged = true;
         break;
       }
+      ++stats.relative_shots;
     }
 
     // The chosen patch's n×n neighbourhood on its surface shoots as one source.
@@ -263,6 +317,7 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
     if (!(area > 0.0) || !(weight_sum > 0.0)) {  // nothing to shoot: drop what they claim
       for (int j : members) unshot[size_t(j)] = Payload{};
       remaining = sum_chunks(power_of);
+      total_rule_held = total_rule_held || remaining <= stop_total;
       ++stats.shots;
       continue;
     }
@@ -359,12 +414,15 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
           arriving = power * k;
         }
         total[size_t(i)] += arriving;
-        unshot[size_t(i)] += transport.reflect(int(i), arriving);
+        const Payload reflected = transport.reflect(int(i), arriving);
+        unshot[size_t(i)] += reflected;
+        emitted[size_t(i)] += transport.magnitude(reflected);
         if constexpr (requires { transport.received(int(i), source, arriving); })
           transport.received(int(i), source, arriving);
       }
     });
     remaining = sum_chunks(power_of);
+    total_rule_held = total_rule_held || remaining <= stop_total;
     ++stats.shots;
 
     // Progress on a log scale of the unshot power between its start and the stop value.
@@ -378,7 +436,6 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   progress.finish();
   if (scale_weight > 0.0) stats.scale_mean = scale_weighted / scale_weight;
   stats.remaining_power = remaining;
-  stats.converged = stats.converged || remaining <= stop_total;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return stats;
 }

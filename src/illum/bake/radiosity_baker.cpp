@@ -37,6 +37,11 @@ void validate(const RadiosityBakeOptions& o) {
         fmt::format("radiosity bake: threshold = {} must lie in (0, 1) (a share of the "
                     "initial unshot power)",
                     o.threshold));
+  if (!(o.relative_threshold > 0.0 && o.relative_threshold <= 1.0))
+    throw Error(
+        fmt::format("radiosity bake: relative_threshold = {} must lie in (0, 1] (the "
+                    "texels' mean unshot share; 1 turns it off)",
+                    o.relative_threshold));
   if (o.samples_per_surface < 1 || o.samples_per_surface > kMaxSamplesPerSurface)
     throw Error(fmt::format("radiosity bake: samples_per_surface = {} must lie in [1, {}]",
                             o.samples_per_surface, kMaxSamplesPerSurface));
@@ -223,6 +228,7 @@ RadiosityBakeOptions RadiosityBakeOptions::from_params(const Params& params) {
   o.basis = lightmap_basis_from_string(params.get<std::string>("basis", "plain"));
   o.content = lightmap_content_from_string(params.get<std::string>("content", "all"));
   o.threshold = params.get<float>("threshold", float(kDefaultRadiosityThreshold));
+  o.relative_threshold = params.get<float>("relative_threshold", float(o.relative_threshold));
   o.samples_per_surface = params.get<int>("samples_per_surface", o.samples_per_surface);
   o.group_size = params.get<int>("group_size", o.group_size);
   o.sky_rays = params.get<int>("sky_rays", o.sky_rays);
@@ -421,6 +427,7 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
         options.seed, &accumulated};
     ShootingOptions shooting;
     shooting.threshold = options.threshold;
+    shooting.relative_threshold = options.relative_threshold;
     shooting.samples_per_surface = options.samples_per_surface;
     shooting.group_size = options.group_size;
     shooting.seed = options.seed;
@@ -434,6 +441,8 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     bake.shared_clusters = stats.shared_clusters;
     bake.initial_power = stats.initial_power;
     bake.remaining_power = stats.remaining_power;
+    bake.relative_unshot = stats.relative_unshot;
+    bake.relative_shots = stats.relative_shots;
     bake.converged = stats.converged;
     bake.scale_min = stats.scale_min;
     bake.scale_max = stats.scale_max;

@@ -29,6 +29,7 @@
 namespace illum::bake {
 
 inline constexpr double kDefaultRadiosityThreshold = 1e-3;
+inline constexpr double kDefaultRadiosityRelativeThreshold = 0.05;  // as PRT's
 // Measured (bench/results/dev2core-2026-12-02-radiosity-clusters): at 0.1 the relative RMSE
 // against the path-traced reference rises 10.80% → 10.87% on Sibenik 384² and 2.98% → 3.34%
 // on Cornell 128², for 1.5× and 1.75× less time; 0.2 saves little more (Sibenik: 1.6×).
@@ -41,6 +42,10 @@ struct RadiosityBakeOptions {
   // (direct light and emission): the map's area-weighted mean then lacks at most that
   // share of the converged solution's indirect part (0 < threshold < 1).
   double threshold = kDefaultRadiosityThreshold;
+  // ... and when the texels' area-weighted mean relative unshot (each texel's unshot against
+  // all it has re-emitted, progressive_shooting.h) is at most relative_threshold: a dim
+  // region beside a bright one (a nave beside a sunlit town) is converged too. (0, 1]; 1: off.
+  double relative_threshold = kDefaultRadiosityRelativeThreshold;
   int samples_per_surface = 10;  // the seed's random shooter samples per surface
   int group_size = 3;            // the seed's n: n×n texels shoot as one (1..15)
   int sky_rays = 64;             // environment directions per texel (1..65536)
@@ -64,11 +69,10 @@ struct RadiosityBakeOptions {
   int threads = 0;             // 0 = all cores
   bool progress = true;
 
-  // Keys: basis, content, threshold, samples_per_surface (1..1000), group_size (1..15),
-  // sky_rays, reach_rays (0..65536), cluster_ratio (0..0.5), dilate (0..64), stitch (bool,
-  // default true), stitch_coplanar (bool, default true), seed.
-  // Throws Error on values out of
-  // range (NaN included) or unknown names.
+  // Keys: basis, content, threshold, relative_threshold (0..1], samples_per_surface (1..1000),
+  // group_size (1..15), sky_rays, reach_rays (0..65536), cluster_ratio (0..0.5), dilate (0..64),
+  // stitch (bool, default true), stitch_coplanar (bool, default true), seed. Throws Error on values
+  // out of range (NaN included) or unknown names.
   static RadiosityBakeOptions from_params(const Params& params);
 };
 
@@ -88,6 +92,8 @@ struct RadiosityBake {
   size_t texels = 0;
   double initial_power = 0.0;    // W, Σ over texels of the initial unshot exitance × area
   double remaining_power = 0.0;  // W, left unshot when shooting stopped
+  double relative_unshot = 0.0;  // the texels' mean relative unshot when shooting stopped
+  int64_t relative_shots = 0;    // shots made after the total rule held, for the relative one
   bool converged = false;        // false: stopped by the time budget
   // Power conservation's scale on the form factors per shot (ShootingStats): extremes and
   // power-weighted mean (1 with reach_rays 0).
