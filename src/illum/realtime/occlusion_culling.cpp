@@ -86,8 +86,7 @@ void OcclusionCuller::set_enabled(bool on, bool shadows) {
   }
 }
 
-OcclusionCuller::View& OcclusionCuller::begin(VkCommandBuffer cmd, const std::string& key,
-                                              uint64_t frame) {
+OcclusionCuller::View& OcclusionCuller::begin(VkCommandBuffer cmd, const std::string& key) {
   auto [it, fresh] = views_.try_emplace(key);
   View& v = it->second;
   const VkDeviceSize flags = std::max<size_t>(scene_.clusters().size(), 1) * sizeof(uint32_t);
@@ -117,7 +116,6 @@ OcclusionCuller::View& OcclusionCuller::begin(VkCommandBuffer cmd, const std::st
   // The last frame's cull wrote the flags this frame's first half reads.
   gpu::memory_barrier(cmd, kCompute, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kPredicate,
                       kPredicateRead);
-  (void)frame;
   return v;
 }
 
@@ -127,9 +125,9 @@ void OcclusionCuller::cull(PassContext& pass, View& v, const std::string& depth_
   const VkCommandBuffer cmd = pass.cmd();
   PassContext::Aside aside = pass.aside(scope);
   const gpu::GpuImage& depth = resources_.image(depth_resource);
-  if (!v.hzb || v.extent.width != extent.width || v.extent.height != extent.height ||
-      v.bound_depth != depth.view()) {
-    if (!v.hzb || v.extent.width != extent.width || v.extent.height != extent.height)
+  const bool resized = !v.hzb || v.extent.width != extent.width || v.extent.height != extent.height;
+  if (resized || v.bound_depth != depth.view()) {
+    if (resized)
       v.hzb = gpu::Buffer(context_, hzb_floats(extent) * sizeof(float),
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kDevice);
     v.extent = extent;

@@ -64,10 +64,10 @@ class OcclusionCuller {
     VkBuffer now_flags() const { return visible[1 - early].handle(); }
   };
 
-  // Before the first half of `key`'s pass at `frame`: the view's state (created on first
-  // use with every flag set: the first frame draws everything), the previous cull's "visible
-  // now" becoming this frame's first-half flags.
-  View& begin(VkCommandBuffer cmd, const std::string& key, uint64_t frame);
+  // Before the first half of `key`'s pass: the view's state (created on first use with every
+  // flag set: the first frame draws everything), the previous cull's "visible now" becoming
+  // this frame's first-half flags.
+  View& begin(VkCommandBuffer cmd, const std::string& key);
   // Between the halves, outside any rendering: the HZB of `depth_resource` (`extent`), the
   // test of the clusters in `order` against it with the view's clip transform, and the counts
   // of what the two halves draw. Its own timer scope `scope` beside the pass's.

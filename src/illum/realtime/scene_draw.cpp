@@ -247,18 +247,12 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   std::vector<VkBuffer> halves = {now ? now->now_flags() : VK_NULL_HANDLE};
   OcclusionCuller::View* culled = nullptr;
   if (two_phase) {
-    culled = &occlusion_->begin(cmd, view.occlusion_key, pass.frame());
+    culled = &occlusion_->begin(cmd, view.occlusion_key);
     halves = {culled->early_flags(), culled->late.handle()};
   }
   auto draw_halves = [&](const gpu::Pipeline& p, VkPipelineLayout l,
                          const std::array<VkDescriptorSet, 3>& s) {
-    Drawn all;
-    for (VkBuffer h : halves) {
-      const Drawn d = draw_clusters(cmd, p, l, s, view, order, h);
-      all.triangles += d.triangles;
-      all.clusters += d.clusters;
-    }
-    return all;
+    for (VkBuffer h : halves) draw_clusters(cmd, p, l, s, view, order, h);
   };
   // Before the pass with occlusion culling: the quads are counted after it (the replay needs
   // the predicates the culling between its halves writes) from the same start, the colours
@@ -283,7 +277,7 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   DrawTargets first = targets;
   first.store_depth = first.store_depth || two_phase;  // the culling and the second half read it
   begin(cmd, first);
-  Drawn drawn = draw_clusters(cmd, variant, layout, sets, view, order, halves[0]);
+  const Drawn drawn = draw_clusters(cmd, variant, layout, sets, view, order, halves[0]);
   if (two_phase) {
     end(cmd);
     occlusion_->cull(pass, *culled, targets.depth_resource, targets.extent, *view.cull, order,
@@ -304,8 +298,8 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
     pass.clusters(static_cast<double>(order.size()));
   }
   if (quads && culling) {
-    DrawTargets from = targets;
-    for (DrawTargets::Color& c : from.colors) c.clear = c.undefined = false;
+    DrawTargets from = loaded(targets);
+    from.clear_depth = targets.clear_depth;  // the pass's own start
     count_quads(from);
   }
   if (!pass.counting()) return;
