@@ -132,37 +132,37 @@ ShadingTime ShadingBound::measure(int repeats, Image* image) {
     // The lighting: one untimed run counting the covered pixels, one more untimed (lavapipe
     // compiles the pipeline's shaders again outside the query: 0.8 s), then the timed ones,
     // each after the last as a frame's passes into one target are.
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = output_.view();
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // as the forward pass clears its target
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = depth_.layer_view(0);
+    depth.imageLayout = kReadOnlyDepthLayout;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
+    VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    info.renderArea = {{0, 0}, extent};
+    info.layerCount = 1;
+    info.colorAttachmentCount = 1;
+    info.pColorAttachments = &color;
+    info.pDepthAttachment = &depth;
+    info.pStencilAttachment = &depth;
+    const VkViewport vp{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, extent};
+    const PushConstants push{};
     for (int r = 0; r < repeats + 2; ++r) {
       output_.transition(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, color_stage, color_access);
-      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      color.imageView = output_.view();
-      color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-      color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // as the forward pass clears its target
-      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-      VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      depth.imageView = depth_.layer_view(0);
-      depth.imageLayout = kReadOnlyDepthLayout;
-      depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
-      depth.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
-      VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      info.renderArea = {{0, 0}, extent};
-      info.layerCount = 1;
-      info.colorAttachmentCount = 1;
-      info.pColorAttachments = &color;
-      info.pDepthAttachment = &depth;
-      info.pStencilAttachment = &depth;
       const uint32_t scope = r > 1 ? timer.begin(cmd, "shading_bound") : 0;
       if (r == 0)
         vkCmdBeginQuery(cmd, covered, 0,
                         gpu.occlusion_query_precise() ? VK_QUERY_CONTROL_PRECISE_BIT : 0);
       vkCmdBeginRendering(cmd, &info);
-      const VkViewport vp{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
-      const VkRect2D scissor{{0, 0}, extent};
       vkCmdSetViewport(cmd, 0, 1, &vp);
       vkCmdSetScissor(cmd, 0, 1, &scissor);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, lighting_.handle());
       bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.handle(), ctx_.globals, sets);
-      const PushConstants push{};
       vkCmdPushConstants(cmd, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
       vkCmdDraw(cmd, 3, 1, 0, 0);
       vkCmdEndRendering(cmd);
