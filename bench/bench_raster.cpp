@@ -188,18 +188,66 @@ int run_raster(SuiteArgs args) {
     for (const auto& p : fr["passes"])
       if (p.contains("work"))
         most_triangles = std::max(most_triangles, p["work"].value("triangles", 0.0));
-  std::vector<double> triangle_runs;
   // At least 64k triangles, so launch overhead does not dominate the rate.
   const uint32_t measured_triangles =
       static_cast<uint32_t>(std::clamp(most_triangles, 65536.0, 16777216.0));
-  const double triangle_ms = ms_per_triangle(ctx, measured_triangles, repeats, &triangle_runs);
-  std::printf("  triangle rate %.0f Mtriangles/s (%u culled one-point triangles)\n",
-              triangle_ms > 0.0 ? 1e-3 / triangle_ms : 0.0, measured_triangles);
-  std::vector<double> setup_runs;
-  const double setup_ms =
-      ms_per_triangle(ctx, measured_triangles, repeats, &setup_runs, /*rasterized=*/true);
-  std::printf("  setup rate %.0f Mtriangles/s (%u sub-pixel triangles covering no sample)\n",
-              setup_ms > 0.0 ? 1e-3 / setup_ms : 0.0, measured_triangles);
+  // The cheapest triangles: the bound's triangles share their vertices in patches of 1–8
+  // cells a side, placed row by row or scattered over the target, and every arrangement is
+  // timed with its vertex shader invocations counted. On the H200 a vertex costs about as much
+  // as setting up a triangle, so a bound shading three vertices a triangle is beaten by a scene
+  // ordered for vertex reuse; and the cheapest arrangement (4×4 patches: 25 vertices for 32
+  // triangles, one hardware batch) reuses more than any mesh drawn through the chip's batches.
+  // A pass is therefore bounded by the fastest arrangement that runs no more vertices a
+  // triangle than the pass itself ran (its counting frame counts them), and by the fastest of
+  // all where it did not count them.
+  struct Arrangement {
+    uint32_t patch;
+    bool scatter;
+    double culled_ms, setup_ms, vertices_per_triangle;
+    std::vector<double> culled_runs, setup_runs;
+  };
+  std::vector<Arrangement> arrangements;
+  for (uint32_t patch : {1u, 2u, 4u, 8u})
+    for (bool scatter : {false, true}) {
+      Arrangement a{patch, scatter, 0.0, 0.0, -1.0, {}, {}};
+      if (!scatter)  // culled triangles sit at one point: no pixel to scatter over
+        a.culled_ms = ms_per_triangle(ctx, measured_triangles, repeats, &a.culled_runs, patch);
+      double invocations = -1.0;
+      a.setup_ms = setup_ms_per_triangle(ctx, measured_triangles, repeats, &a.setup_runs, patch,
+                                         scatter, &invocations);
+      if (invocations >= 0.0) a.vertices_per_triangle = invocations / measured_triangles;
+      std::printf(
+          "  triangles in %u×%u patches%s: %s%.0f Mtriangles/s set up, %.2f vertices a triangle\n",
+          patch, patch, scatter ? ", scattered" : "",
+          scatter ? "" : fmt::format("{:.0f} Mtriangles/s culled, ", 1e-3 / a.culled_ms).c_str(),
+          1e-3 / a.setup_ms, a.vertices_per_triangle);
+      arrangements.push_back(std::move(a));
+    }
+  const Arrangement* culled = &arrangements[0];
+  const Arrangement* fastest = &arrangements[0];
+  for (const Arrangement& a : arrangements) {
+    if (!a.scatter && a.culled_ms < culled->culled_ms) culled = &a;
+    if (a.setup_ms < fastest->setup_ms) fastest = &a;
+  }
+  // The arrangement bounding a pass that ran `vertices` vertex shader invocations a triangle
+  // (negative: not counted).
+  auto arrangement_for = [&](double vertices) {
+    const Arrangement* best = nullptr;
+    if (vertices < 0.0) return fastest;
+    for (const Arrangement& a : arrangements)
+      if (a.vertices_per_triangle >= 0.0 && a.vertices_per_triangle <= vertices &&
+          (!best || a.setup_ms < best->setup_ms))
+        best = &a;
+    return best ? best : fastest;
+  };
+  const double triangle_ms = culled->culled_ms, setup_ms = fastest->setup_ms;
+  std::printf("  triangle rate %.0f Mtriangles/s (%u culled one-point triangles, %u×%u patches)\n",
+              1e-3 / triangle_ms, measured_triangles, culled->patch, culled->patch);
+  std::printf(
+      "  setup rate %.0f Mtriangles/s (%u sub-pixel triangles covering no sample, %u×%u "
+      "patches%s, %.2f vertices a triangle)\n",
+      1e-3 / setup_ms, measured_triangles, fastest->patch, fastest->patch,
+      fastest->scatter ? ", scattered" : "", fastest->vertices_per_triangle);
   std::map<std::string, double> bound_ms, fixed_ms;
   nlohmann::json bounds = nlohmann::json::array();
   std::printf("  %-44s %10s %12s\n", "raster bound (ms per full-screen layer)", "ms", "Gpixel/s");
@@ -235,7 +283,7 @@ int run_raster(SuiteArgs args) {
   // quad granularity (a fragment shader runs in 2×2 quads: a quad with one passing sample
   // costs the chip the lanes of four).
   auto mixed_bound = [&](const nlohmann::json& fills_json, const std::string& file, double raster,
-                         double quad_scale) {
+                         double quad_scale, const Arrangement& arrangement) {
     std::map<std::string, std::pair<int, double>> renderings;  // key: (renderings, layers)
     double passing = 0.0, rejected_ms = 0.0;
     for (const auto& f : fills_json) {
@@ -261,15 +309,19 @@ int run_raster(SuiteArgs args) {
       const uint32_t each_triangles = static_cast<uint32_t>(
           std::clamp(std::round(raster * layers / passing / n), 1.0, 16777216.0));
       const std::string id =
-          fmt::format("{} {} triangles {:.4f} layers", key, each_triangles, each_layers);
+          fmt::format("{} {} triangles {:.4f} layers {}{}", key, each_triangles, each_layers,
+                      arrangement.patch, arrangement.scatter ? "s" : "");
       auto it = mixed_cache.find(id);
       if (it == mixed_cache.end()) {
         const std::vector<double> runs =
-            time_fill(ctx, fills.at(key), repeats, {1, each_triangles, each_layers});
+            time_fill(ctx, fills.at(key), repeats,
+                      {1, each_triangles, each_layers, arrangement.patch, arrangement.scatter});
         it = mixed_cache.emplace(id, median(runs)).first;
         mixed_bounds.push_back({{"key", key},
                                 {"triangles", each_triangles},
                                 {"layers", each_layers},
+                                {"patch", arrangement.patch},
+                                {"scattered", arrangement.scatter},
                                 {"runs_ms", runs},
                                 {"ms", it->second}});
       }
@@ -356,10 +408,15 @@ int run_raster(SuiteArgs args) {
           // Counted ones (clip output) at the setup time, the rest at the culled time; clipping
           // may split a triangle, so at most the triangles submitted are charged as set up.
           const double raster = std::min(triangles, p["work"].value("rasterized_triangles", 0.0));
-          r.geometry_ms =
-              (triangles - raster) * triangle_ms + raster * std::max(setup_ms, triangle_ms);
+          const double vertices =
+              p["work"].contains("vertex_invocations")
+                  ? p["work"]["vertex_invocations"].get<double>() / std::max(triangles, 1.0)
+                  : -1.0;
+          const Arrangement& arrangement = *arrangement_for(vertices);
+          r.geometry_ms = (triangles - raster) * triangle_ms +
+                          raster * std::max(arrangement.setup_ms, triangle_ms);
           if (raster >= 1.0) {
-            r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster, 1.0) +
+            r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster, 1.0, arrangement) +
                          (triangles - raster) * triangle_ms;
             r.details.push_back(fmt::format("mixed {:.4f}", r.mixed_ms));
             const double quads = p["work"].value("quads", -1.0);
@@ -371,7 +428,7 @@ int run_raster(SuiteArgs args) {
                     "{}: pass {}: the quad count saw {} passing samples, the occlusion query {}",
                     files[i], r.name, counted, passing_samples));
               const double scale = 4.0 * quads / counted;
-              r.quads_ms = mixed_bound(p["work"]["fills"], files[i], raster, scale) +
+              r.quads_ms = mixed_bound(p["work"]["fills"], files[i], raster, scale, arrangement) +
                            (triangles - raster) * triangle_ms;
               r.details.push_back(fmt::format("quads {:.4f} ({:.4g} quads, {:.3f}× the samples)",
                                               r.quads_ms, quads, scale));
@@ -381,6 +438,14 @@ int run_raster(SuiteArgs args) {
               p["work"].contains("rasterized_triangles")
                   ? fmt::format("{:.4g} triangles ({:.4g} rasterized)", triangles, raster)
                   : fmt::format("{:.4g} triangles", triangles));
+          // Vertex shader invocations a triangle submitted (3 without vertex reuse), and the
+          // arrangement of the bound's triangles that runs no more.
+          if (vertices >= 0.0)
+            r.details.push_back(fmt::format(
+                "{:.2f} vertices a triangle, bound on {}×{} patches{} "
+                "({:.2f})",
+                vertices, arrangement.patch, arrangement.patch,
+                arrangement.scatter ? " scattered" : "", arrangement.vertices_per_triangle));
         }
         if (p["work"].contains("shading")) shading_bound(p["work"], files[i], &r);
         const double bytes = p["work"].at("bytes").get<double>();
@@ -475,9 +540,23 @@ int run_raster(SuiteArgs args) {
     j["mixed_bounds"] = mixed_bounds;
     j["triangles"] = {{"count", measured_triangles},
                       {"ms_per_triangle", triangle_ms},
-                      {"runs_ms", triangle_runs}};
-    j["setup_triangles"] = {
-        {"count", measured_triangles}, {"ms_per_triangle", setup_ms}, {"runs_ms", setup_runs}};
+                      {"patch", culled->patch},
+                      {"runs_ms", culled->culled_runs}};
+    j["setup_triangles"] = {{"count", measured_triangles},
+                            {"ms_per_triangle", setup_ms},
+                            {"patch", fastest->patch},
+                            {"scattered", fastest->scatter},
+                            {"vertices_per_triangle", fastest->vertices_per_triangle},
+                            {"runs_ms", fastest->setup_runs}};
+    nlohmann::json tried = nlohmann::json::array();
+    for (const Arrangement& a : arrangements)
+      tried.push_back(
+          {{"patch", a.patch},
+           {"scattered", a.scatter},
+           {"culled_ms_per_triangle", a.scatter ? nlohmann::json() : nlohmann::json(a.culled_ms)},
+           {"setup_ms_per_triangle", a.setup_ms},
+           {"vertices_per_triangle", a.vertices_per_triangle}});
+    j["triangle_arrangements"] = tried;
     j["frames"] = out_frames;
     j["validation_messages"] = ctx.validation_message_count();
     j["machine"] = machine_info();

@@ -21,21 +21,45 @@ using Depth = gpu::RasterFill::Depth;
 struct MixedMesh {
   std::vector<uint32_t> indices;
   struct {
-    int32_t width = 1, height = 1, setup_triangles = 0;
+    int32_t width = 1, height = 1, setup_vertices = 0;
     float partial = 1.0f;
-    int32_t rectangles = 0;
+    int32_t rectangles = 0, patch = 1, spread = 0;
   } push;
 };
 
+}  // namespace
+
+uint32_t patch_vertices(uint32_t triangles, uint32_t patch) {
+  const uint32_t per_patch = 2 * patch * patch;
+  return (triangles + per_patch - 1) / per_patch * (patch + 1) * (patch + 1);
+}
+
+void append_patch_triangle(std::vector<uint32_t>& indices, uint32_t t, uint32_t patch) {
+  const uint32_t per_patch = 2 * patch * patch, side = patch + 1;
+  const uint32_t base = t / per_patch * side * side, cell = t % per_patch / 2;
+  const uint32_t i = cell % patch, j = cell / patch;
+  const auto v = [&](uint32_t x, uint32_t y) { return base + y * side + x; };
+  if (t % 2 == 0)
+    indices.insert(indices.end(), {v(i, j), v(i + 1, j), v(i, j + 1)});
+  else
+    indices.insert(indices.end(), {v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)});
+}
+
+namespace {
+
 // The rectangles spread evenly among the setup triangles, as a scene's large and small
 // triangles mix, so the chip can overlap the setup of the one with the pixels of the other.
-MixedMesh make_mixed(uint32_t width, uint32_t height, uint32_t triangles, double layers) {
+MixedMesh make_mixed(uint32_t width, uint32_t height, uint32_t triangles, double layers,
+                     uint32_t patch, bool scatter) {
   MixedMesh m;
   const int full = static_cast<int>(std::floor(layers));
   const double partial = layers - full;
   m.push.width = static_cast<int32_t>(width);
   m.push.height = static_cast<int32_t>(height);
-  m.push.setup_triangles = static_cast<int32_t>(triangles);
+  const uint32_t setup_vertices = patch_vertices(triangles, patch);
+  m.push.setup_vertices = static_cast<int32_t>(setup_vertices);
+  m.push.patch = static_cast<int32_t>(patch);
+  m.push.spread = scatter ? 1 : 0;
   m.push.rectangles = full + (partial > 1e-6 ? 1 : 0);
   m.push.partial = partial > 1e-6 ? static_cast<float>(partial) : 1.0f;
   const uint32_t rectangles = static_cast<uint32_t>(m.push.rectangles);
@@ -44,10 +68,10 @@ MixedMesh make_mixed(uint32_t width, uint32_t height, uint32_t triangles, double
   for (uint32_t t = 0; t <= triangles; ++t) {
     while (next < rectangles &&
            static_cast<uint64_t>(next + 1) * triangles / (rectangles + 1) <= t) {
-      const uint32_t base = 3 * triangles + 4 * next++;
+      const uint32_t base = setup_vertices + 4 * next++;
       m.indices.insert(m.indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});
     }
-    if (t < triangles) m.indices.insert(m.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    if (t < triangles) append_patch_triangle(m.indices, t, patch);
   }
   return m;
 }
@@ -61,7 +85,7 @@ bool is_uint(VkFormat f) {
 // The trivial pass into `f`'s attachments, `repeats` times (after 2 untimed), each its own
 // rendering scope after a barrier as a frame's passes are; returns the times.
 std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int repeats,
-                              const BoundGeometry& geometry) {
+                              const BoundGeometry& geometry, double* vertex_invocations) {
   const bool mixed = geometry.setup_triangles > 0;
   std::vector<gpu::GpuImage> colors;
   for (VkFormat c : f.colors) {
@@ -98,7 +122,8 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   MixedMesh mesh;
   gpu::Buffer index_buffer;
   if (mixed) {
-    mesh = make_mixed(f.width, f.height, geometry.setup_triangles, geometry.mixed_layers);
+    mesh = make_mixed(f.width, f.height, geometry.setup_triangles, geometry.mixed_layers,
+                      geometry.patch, geometry.scatter);
     index_buffer =
         gpu::make_device_buffer(ctx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t),
                                 VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
@@ -151,11 +176,23 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
     if (vkCreateQueryPool(ctx.device(), &qi, nullptr, &samples) != VK_SUCCESS)
       throw Error("illum-bench raster: cannot create an occlusion query pool");
   }
+  // And, where the device counts them, its vertex shader invocations (what the setup
+  // triangles' shared vertices save).
+  VkQueryPool statistics = VK_NULL_HANDLE;
+  if (mixed && vertex_invocations && ctx.pipeline_statistics()) {
+    VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
+    qi.queryCount = 1;
+    qi.pipelineStatistics = VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT;
+    if (vkCreateQueryPool(ctx.device(), &qi, nullptr, &statistics) != VK_SUCCESS)
+      throw Error("illum-bench raster: cannot create a pipeline statistics query pool");
+  }
   const int total = repeats + 2;
   gpu::GpuTimer timer(ctx, static_cast<uint32_t>(total));
   ctx.immediate([&](VkCommandBuffer cmd) {
     timer.reset(cmd);
     if (samples) vkCmdResetQueryPool(cmd, samples, 0, 1);
+    if (statistics) vkCmdResetQueryPool(cmd, statistics, 0, 1);
     for (int r = 0; r < total; ++r) {
       // Each pass waits for the last, as a frame's passes writing one target do.
       for (gpu::GpuImage& c : colors)
@@ -201,7 +238,9 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
                            &mesh.push);
         vkCmdBindIndexBuffer(cmd, index_buffer.handle(), 0, VK_INDEX_TYPE_UINT32);
         if (r == 0) vkCmdBeginQuery(cmd, samples, 0, VK_QUERY_CONTROL_PRECISE_BIT);
+        if (r == 0 && statistics) vkCmdBeginQuery(cmd, statistics, 0, 0);
         vkCmdDrawIndexed(cmd, static_cast<uint32_t>(mesh.indices.size()), 1, 0, 0, 0);
+        if (r == 0 && statistics) vkCmdEndQuery(cmd, statistics, 0);
         if (r == 0) vkCmdEndQuery(cmd, samples, 0);
       } else {
         for (int l = 0; l < geometry.layers; ++l) vkCmdDraw(cmd, 3, 1, 0, 0);
@@ -214,6 +253,15 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
       if (depth) depth.assume_state(ds, ds_stages, ds_access);
     }
   });
+  if (vertex_invocations) *vertex_invocations = -1.0;
+  if (statistics) {
+    uint64_t counted = 0;
+    const VkResult got =
+        vkGetQueryPoolResults(ctx.device(), statistics, 0, 1, sizeof(counted), &counted,
+                              sizeof(counted), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    vkDestroyQueryPool(ctx.device(), statistics, nullptr);
+    if (got == VK_SUCCESS) *vertex_invocations = static_cast<double>(counted);
+  }
   if (samples) {
     uint64_t counted = 0;
     const VkResult got =
@@ -237,27 +285,26 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   return ms;
 }
 
-// The geometry bound: ms per triangle of `triangles` indexed triangles (k, k, k), each its
-// own vertex, all at one point (shaders/bound_tris.vert): vertex work and assembly of every
-// triangle, culled before rasterization — less than a real triangle costs (no setup, no
-// pixel), so passes judged by it are at least this slow.
-// With `rasterized`, the triangles are bound_setup.vert's instead: each reaches the rasterizer
-// and covers no sample, on a 1024×1024 target.
+// The geometry bound: ms per triangle of `triangles` indexed triangles in `patch` grids of
+// shared vertices (as the setup triangles below), every vertex at one point
+// (shaders/bound_tris.vert): vertex work and assembly of every triangle, culled before
+// rasterization — less than a real triangle costs (no setup, no pixel), so passes judged by
+// it are at least this slow.
 double ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
-                       std::vector<double>* runs, bool rasterized) {
-  std::vector<uint32_t> indices(3 * static_cast<size_t>(triangles));
-  for (uint32_t k = 0; k < triangles; ++k)
-    for (uint32_t c = 0; c < 3; ++c) indices[3 * k + c] = rasterized ? 3 * k + c : k;
+                       std::vector<double>* runs, uint32_t patch) {
+  std::vector<uint32_t> indices;
+  indices.reserve(3 * static_cast<size_t>(triangles));
+  for (uint32_t t = 0; t < triangles; ++t) append_patch_triangle(indices, t, patch);
   gpu::Buffer index_buffer = gpu::make_device_buffer(
       ctx, indices.data(), indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
   gpu::ImageDesc d;
-  d.width = d.height = rasterized ? 1024 : 1;
+  d.width = d.height = 1;
   d.format = VK_FORMAT_R8G8B8A8_UNORM;
   d.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
   gpu::GpuImage target(ctx, d);
   gpu::PipelineLayout layout(ctx, {}, 0);
   gpu::GraphicsPipelineDesc p;
-  p.vertex_shader = rasterized ? "bound_setup.vert" : "bound_tris.vert";
+  p.vertex_shader = "bound_tris.vert";
   p.fragment_shader = "bound_fill1.frag";
   p.cull = VK_CULL_MODE_NONE;
   p.depth_test = p.depth_write = false;
@@ -299,6 +346,24 @@ double ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
   });
   const std::vector<gpu::PassTime> times = timer.resolve();
   for (size_t i = 2; i < times.size(); ++i) runs->push_back(times[i].ms);
+  return median(*runs) / triangles;
+}
+
+// The setup bound: ms per triangle of `triangles` sub-pixel triangles covering no sample on a
+// 1024² colour target — the mixed pass without rectangles (bound_mixed.vert), `patch` × `patch`
+// cells of shared vertices in a corner of a pixel each, pixels row by row or scattered.
+double setup_ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
+                             std::vector<double>* runs, uint32_t patch, bool scatter,
+                             double* vertex_invocations) {
+  gpu::RasterFill f;
+  f.width = f.height = 1024;
+  f.colors = {VK_FORMAT_R8G8B8A8_UNORM};
+  f.depth = Depth::kNone;
+  BoundGeometry g;
+  g.setup_triangles = triangles;
+  g.patch = patch;
+  g.scatter = scatter;
+  *runs = time_fill(ctx, f, repeats, g, vertex_invocations);
   return median(*runs) / triangles;
 }
 

@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git file
   libembree-dev libtbb-dev libglm-dev libeigen3-dev libnanoflann-dev
   libtinygltf-dev libtinyobjloader-dev libstb-dev libopenexr-dev
-  nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libmeshoptimizer-dev
   libvulkan-dev glslc glslang-tools spirv-tools vulkan-validationlayers
   mesa-vulkan-drivers vulkan-tools libglfw3-dev libimgui-dev xvfb xauth xdotool
   libgtest-dev libgmock-dev libbenchmark-dev clang-format

@@ -148,6 +148,7 @@ void run_frame(const FrameArgs& args) {
       }
       work[{t.name, t.depth}] = {{"fills", fills}, {"bytes", t.bytes}, {"triangles", t.triangles}};
       if (t.rasterized >= 0.0) work[{t.name, t.depth}]["rasterized_triangles"] = t.rasterized;
+      if (t.vertices >= 0.0) work[{t.name, t.depth}]["vertex_invocations"] = t.vertices;
       if (t.clusters >= 0.0) work[{t.name, t.depth}]["clusters"] = t.clusters;
       if (t.quads >= 0.0) {
         work[{t.name, t.depth}]["quads"] = t.quads;

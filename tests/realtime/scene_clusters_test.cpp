@@ -8,6 +8,8 @@
 #include <numeric>
 #include <random>
 
+#include <meshoptimizer.h>
+
 #include "illum/realtime/gpu_scene.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/scene_draw.h"
@@ -74,6 +76,40 @@ TEST_F(SceneClusters, EveryTriangleInOneCompactCluster) {
   // shuffled order taken in runs of kClusterTriangles would give each run the whole floor (9 m²).
   std::printf("floor: %u clusters, footprints %.3f m²\n", floor.cluster_count, area);
   EXPECT_LT(area, 1.5);
+}
+
+// Within each cluster the triangles go in an order for vertex reuse: the average cache miss
+// ratio (vertex shader runs a triangle) of meshoptimizer's FIFO-16 model stays below 1 in
+// every cluster of a regular grid — a 256-triangle patch of it has about 150 vertices, so
+// about 0.6 is the floor — where the spatial split alone leaves the shuffled order's ≈ 2.
+// Every triangle survives with its winding (a rotation of its three indices at most).
+TEST(SceneClustersOrder, TrianglesInAClusterAreOrderedForVertexReuse) {
+  const Scene scene = cornell_with_fine_floor(48);
+  const Mesh& floor = scene.meshes[0];
+  const std::vector<uint32_t> ordered = clustered_indices(floor, kClusterTriangles);
+  ASSERT_EQ(ordered.size(), floor.indices.size());
+  auto canonical = [](const uint32_t* t) {  // the rotation starting at the smallest index
+    const int k = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+    return std::array<uint32_t, 3>{t[k], t[(k + 1) % 3], t[(k + 2) % 3]};
+  };
+  std::vector<std::array<uint32_t, 3>> before, after;
+  for (size_t i = 0; i < ordered.size(); i += 3) {
+    before.push_back(canonical(&floor.indices[i]));
+    after.push_back(canonical(&ordered[i]));
+  }
+  std::sort(before.begin(), before.end());
+  std::sort(after.begin(), after.end());
+  EXPECT_EQ(before, after) << "a triangle lost, duplicated or turned over";
+  const size_t run = 3 * size_t(kClusterTriangles);
+  double worst = 0.0;
+  for (size_t first = 0; first < ordered.size(); first += run) {
+    const size_t count = std::min(run, ordered.size() - first);
+    const meshopt_VertexCacheStatistics s =
+        meshopt_analyzeVertexCache(ordered.data() + first, count, floor.positions.size(), 16, 0, 0);
+    worst = std::max(worst, double(s.acmr));
+  }
+  std::printf("worst cluster: %.3f vertices a triangle (FIFO of 16)\n", worst);
+  EXPECT_LT(worst, 1.0);
 }
 
 TEST_F(SceneClusters, CullingKeepsEveryClusterTheViewCanSeeAndSortsFrontToBack) {

@@ -149,7 +149,9 @@ void GpuTimer::set_counting(bool on, bool statistics) {
                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::kReadback);
   if (!context_->pipeline_statistics()) return;
   info.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
-  info.pipelineStatistics = VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT;
+  // Results come in bit order: vertex shader invocations, then clipping output.
+  info.pipelineStatistics = VK_QUERY_PIPELINE_STATISTIC_VERTEX_SHADER_INVOCATIONS_BIT |
+                            VK_QUERY_PIPELINE_STATISTIC_CLIPPING_PRIMITIVES_BIT;
   ILLUM_VK(vkCreateQueryPool(context_->device(), &info, nullptr, &statistics_));
 }
 
@@ -253,16 +255,18 @@ std::vector<PassTime> GpuTimer::resolve() const {
     }
   }
   if (counting() && !rasterized_scopes_.empty()) {
-    std::vector<uint64_t> primitives(rasterized_scopes_.size());
-    ILLUM_VK(vkGetQueryPoolResults(
-        context_->device(), statistics_, 0, static_cast<uint32_t>(primitives.size()),
-        primitives.size() * sizeof(uint64_t), primitives.data(), sizeof(uint64_t),
-        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-    for (size_t q = 0; q < primitives.size(); ++q) {
+    const size_t n = rasterized_scopes_.size();
+    std::vector<uint64_t> stats(2 * n);  // per query: vertex invocations, clipping output
+    ILLUM_VK(vkGetQueryPoolResults(context_->device(), statistics_, 0, static_cast<uint32_t>(n),
+                                   stats.size() * sizeof(uint64_t), stats.data(),
+                                   2 * sizeof(uint64_t),
+                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    for (size_t q = 0; q < n; ++q) {
       const uint32_t scope = rasterized_scopes_[q];
       if (scope >= out.size()) continue;
+      out[scope].vertices = std::max(0.0, out[scope].vertices) + static_cast<double>(stats[2 * q]);
       out[scope].rasterized =
-          std::max(0.0, out[scope].rasterized) + static_cast<double>(primitives[q]);
+          std::max(0.0, out[scope].rasterized) + static_cast<double>(stats[2 * q + 1]);
     }
   }
   if (counts_quads() && !quad_scopes_.empty()) {

@@ -60,6 +60,9 @@ struct PassTime {
   // Of those, the ones that reached rasterization (out of clipping; counting frames on a
   // device with pipeline statistics; −1: not counted).
   double rasterized = -1.0;
+  // Counted with them: the vertex shader invocations of those draws (what vertex reuse saves:
+  // 3 a triangle without any, fewer where triangles share cached vertices).
+  double vertices = -1.0;
   // Counting frames on a device that counts quads (Context::quad_counting): the 2×2 quads
   // its renderings shaded with at least one passing sample, and the passing samples the
   // same count saw (equal to the occlusion query's: the check that it replayed the pass);
@@ -113,7 +116,8 @@ class GpuTimer {
   void end_count(VkCommandBuffer cmd, uint32_t query, const RasterFill& per_sample, int minus = -1);
   // Inside a counting frame on a device with pipeline statistics: the primitives of the draws
   // recorded until end_rasterized() that leave clipping add to the innermost open scope's
-  // `rasterized` (otherwise both record nothing).
+  // `rasterized`, their vertex shader invocations to its `vertices` (otherwise both record
+  // nothing).
   uint32_t begin_rasterized(VkCommandBuffer cmd);
   void end_rasterized(VkCommandBuffer cmd, uint32_t query);
   // Counting frames on a device that can count quads: outside any rendering, begin_quads()

@@ -58,7 +58,7 @@ struct Modules {
 }  // namespace
 
 Pipeline::Pipeline(Context& context, VkPipelineLayout layout, const GraphicsPipelineDesc& d)
-    : context_(&context) {
+    : context_(&context), vertex_stride_(d.vertex_input.stride) {
   Modules modules{context.device(), {}};
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   modules.list.push_back(create_shader_module(context, d.vertex_shader));
@@ -179,6 +179,7 @@ Pipeline& Pipeline::operator=(Pipeline&& o) noexcept {
     reset();
     context_ = std::exchange(o.context_, nullptr);
     pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
+    vertex_stride_ = std::exchange(o.vertex_stride_, 0);
   }
   return *this;
 }

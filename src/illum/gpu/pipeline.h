@@ -70,11 +70,15 @@ class Pipeline {
   Pipeline& operator=(const Pipeline&) = delete;
   VkPipeline handle() const { return pipeline_; }
   explicit operator bool() const { return pipeline_ != VK_NULL_HANDLE; }
+  // The vertex buffer stride it was built for (0: none, or a compute pipeline), so a drawer
+  // binds the vertex stream that layout reads.
+  uint32_t vertex_stride() const { return vertex_stride_; }
   void reset();
 
  private:
   Context* context_ = nullptr;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
+  uint32_t vertex_stride_ = 0;
 };
 
 // A shader module from the embedded SPIR-V; throws Error when `name` is not embedded or

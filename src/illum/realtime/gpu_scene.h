@@ -30,8 +30,13 @@ struct DrawItem {
 // draw costs ≈ 0.15 µs, so 256 keeps the draw count down; bench/results/h200-2026-12-02-order).
 inline constexpr uint32_t kClusterTriangles = 256;
 
-// A spatially compact run of one draw's triangles (the mesh's triangles are stored in Morton
-// order of their centroids, so a run of the index buffer is a compact piece of the surface):
+// The mesh's index list reordered for clustering: each run of `cluster` triangles (the last
+// may be shorter) is a spatially compact piece of the surface, its triangles in an order for
+// the GPU's vertex reuse; every triangle kept with its winding.
+std::vector<uint32_t> clustered_indices(const Mesh& mesh, uint32_t cluster);
+
+// A spatially compact run of one draw's triangles (the mesh's triangles are stored as
+// clustered_indices orders them, so a run of the index buffer is a compact piece of the surface):
 // the unit each view culls against its frustum and sorts front to back. `first_triangle`
 // counts from the mesh's first index (the visibility buffer's triangle ids).
 struct Cluster {
@@ -47,6 +52,9 @@ class GpuScene {
 
   const Scene& scene() const { return scene_; }
   const gpu::Buffer& vertices() const { return vertices_; }
+  // The vertices' positions alone, packed (12 bytes a vertex, the same order): the stream of
+  // depth-like passes, which would otherwise fetch 56-byte vertices for 12 bytes of each.
+  const gpu::Buffer& positions() const { return positions_; }
   const gpu::Buffer& indices() const { return indices_; }
   const gpu::Buffer& materials() const { return materials_; }
   const std::vector<MeshRange>& meshes() const { return meshes_; }
@@ -59,7 +67,7 @@ class GpuScene {
 
  private:
   const Scene& scene_;
-  gpu::Buffer vertices_, indices_, materials_;
+  gpu::Buffer vertices_, positions_, indices_, materials_;
   std::vector<MeshRange> meshes_;
   std::vector<DrawItem> draws_;
   std::vector<Cluster> clusters_;

@@ -303,6 +303,7 @@ struct Renderer::Impl {
         it->bytes += t.bytes;
         it->triangles += t.triangles;
         if (t.rasterized >= 0.0) it->rasterized = std::max(0.0, it->rasterized) + t.rasterized;
+        if (t.vertices >= 0.0) it->vertices = std::max(0.0, it->vertices) + t.vertices;
         if (t.quads >= 0.0) {
           it->quads = std::max(0.0, it->quads) + t.quads;
           it->quad_samples = std::max(0.0, it->quad_samples) + t.quad_samples;

@@ -9,9 +9,13 @@ namespace illum::realtime {
 
 gpu::VertexInput mesh_vertex_input(bool position_only) {
   gpu::VertexInput in;
+  if (position_only) {
+    in.stride = sizeof(vec3);  // GpuScene::positions()
+    in.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
+    return in;
+  }
   in.stride = sizeof(Vertex);
   in.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)});
-  if (position_only) return in;
   in.attributes.push_back({1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)});
   in.attributes.push_back({2, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(Vertex, tangent)});
   in.attributes.push_back({3, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv0)});
@@ -153,7 +157,10 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, globals_, sets);
   VkDeviceSize offset = 0;
-  VkBuffer vb = scene_.vertices().handle();
+  // Depth-like passes read positions only, from their packed stream; and no fragment stage
+  // of theirs reads a material, so they bind none.
+  const bool position_only = pipeline.vertex_stride() == sizeof(vec3);
+  VkBuffer vb = position_only ? scene_.positions().handle() : scene_.vertices().handle();
   vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
   vkCmdBindIndexBuffer(cmd, scene_.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   PushConstants push{};
@@ -181,7 +188,7 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
       push.model = d.transform;
       push.material = globals_.material_index(d.material);
       const VkDescriptorSet material = globals_.material_set(push.material);
-      if (material != bound) {
+      if (material != bound && !position_only) {
         bound = material;
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, kMaterialSet, 1,
                                 &material, 0, nullptr);

@@ -70,6 +70,8 @@ class Deferred final : public FramePipeline {
     gpu::GraphicsPipelineDesc g = gbuffer_pass_desc(ctx.depth_format);
     // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
     gpu::GraphicsPipelineDesc pre = g;
+    pre.vertex_shader = "depth_only.vert";  // forward.vert's transform, positions only
+    pre.vertex_input = mesh_vertex_input(true);
     pre.fragment_shader = "";
     pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
