@@ -25,7 +25,7 @@ run() {  # NAME ILLUM (the bench is always the new one: the same bounds for both
 }
 run base .device/base/illum
 run new .device/bin/illum
-tar czf $OUT/vertex2.tgz -C $R .
+tar czf $OUT/final.tgz -C $R .
 grep -E "patches|rate" $R/new/raster.txt | head -12
 for n in base new; do
   echo "== $n"
