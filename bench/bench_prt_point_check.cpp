@@ -265,7 +265,8 @@ int run_prt_point_check(SuiteArgs args) {
     const float u = si.uv1.x * float(map.width) - 0.5f, v = si.uv1.y * float(map.height) - 0.5f;
     const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
     for (int t = 0; t < 4; ++t) {
-      const int x = x0 + (t & 1), y = y0 + (t >> 1);
+      const int x = std::clamp(x0 + (t & 1), 0, map.width - 1);
+      const int y = std::clamp(y0 + (t >> 1), 0, map.height - 1);
       const double w = double((t & 1) ? u - float(x0) : 1.0f - (u - float(x0))) *
                        double((t >> 1) ? v - float(y0) : 1.0f - (v - float(y0)));
       const int32_t k = raster.at(x, y);
