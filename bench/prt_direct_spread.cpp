@@ -5,13 +5,16 @@
 
 namespace illum::bench {
 
-atlas::TexelRaster texels_seen(const RayTracer& tracer, const atlas::TexelRaster& raster,
-                               const Camera& camera, const bake::RelightOptions& relight,
-                               int margin) {
+namespace {
+
+// Calls visit(pixel index, hit or nullptr on a miss, interaction, taps) for every primary ray
+// of bake::relight's sample grid, with the four bilinear taps its lookup reads (texel
+// indices into the raster, clamped to it as the lookup clamps).
+template <typename Visit>
+void for_each_lookup(const RayTracer& tracer, const atlas::TexelRaster& raster,
+                     const Camera& camera, const bake::RelightOptions& relight, Visit&& visit) {
   const int w = raster.width, h = raster.height;
-  std::vector<uint8_t> tap(size_t(w) * size_t(h), 0);
   const int n = int(std::ceil(std::sqrt(double(relight.samples))));
-  // The same primary rays as bake::relight (its grid), and its bilinear taps.
   for (int py = 0; py < relight.height; ++py)
     for (int px = 0; px < relight.width; ++px)
       for (int s = 0; s < relight.samples; ++s) {
@@ -19,15 +22,35 @@ atlas::TexelRaster texels_seen(const RayTracer& tracer, const atlas::TexelRaster
         const float fy = (float(s / n) + 0.5f) / float(n);
         const Ray ray =
             camera.generate_ray(float(px) + fx, float(py) + fy, relight.width, relight.height);
+        const size_t pixel = size_t(py) * size_t(relight.width) + size_t(px);
         Hit hit;
-        if (!tracer.intersect(ray, &hit)) continue;
-        const vec2 uv1 = tracer.interaction(ray, hit).uv1;
-        const int x0 = int(std::floor(uv1.x * float(w) - 0.5f));
-        const int y0 = int(std::floor(uv1.y * float(h) - 0.5f));
+        if (!tracer.intersect(ray, &hit)) {
+          visit(pixel, static_cast<const Hit*>(nullptr), SurfaceInteraction{}, nullptr);
+          continue;
+        }
+        const SurfaceInteraction si = tracer.interaction(ray, hit);
+        const int x0 = int(std::floor(si.uv1.x * float(w) - 0.5f));
+        const int y0 = int(std::floor(si.uv1.y * float(h) - 0.5f));
+        size_t taps[4];
         for (int k = 0; k < 4; ++k)
-          tap[size_t(std::clamp(y0 + (k >> 1), 0, h - 1)) * size_t(w) +
-              size_t(std::clamp(x0 + (k & 1), 0, w - 1))] = 1;
+          taps[k] = size_t(std::clamp(y0 + (k >> 1), 0, h - 1)) * size_t(w) +
+                    size_t(std::clamp(x0 + (k & 1), 0, w - 1));
+        visit(pixel, &hit, si, taps);
       }
+}
+
+}  // namespace
+
+atlas::TexelRaster texels_seen(const RayTracer& tracer, const atlas::TexelRaster& raster,
+                               const Camera& camera, const bake::RelightOptions& relight,
+                               int margin) {
+  const int w = raster.width, h = raster.height;
+  std::vector<uint8_t> tap(size_t(w) * size_t(h), 0);
+  for_each_lookup(tracer, raster, camera, relight,
+                  [&](size_t, const Hit* hit, const SurfaceInteraction&, const size_t* taps) {
+                    if (hit)
+                      for (int k = 0; k < 4; ++k) tap[taps[k]] = 1;
+                  });
   atlas::TexelRaster seen;
   seen.width = w;
   seen.height = h;
@@ -51,33 +74,21 @@ atlas::TexelRaster texels_seen(const RayTracer& tracer, const atlas::TexelRaster
 
 std::vector<char> interior_lookups(const RayTracer& tracer, const atlas::TexelRaster& raster,
                                    const Camera& camera, const bake::RelightOptions& relight) {
-  const int w = raster.width, h = raster.height;
   std::vector<char> interior(size_t(relight.width) * size_t(relight.height), 1);
-  const int n = int(std::ceil(std::sqrt(double(relight.samples))));
-  for (int py = 0; py < relight.height; ++py)
-    for (int px = 0; px < relight.width; ++px) {
-      char& inside = interior[size_t(py) * size_t(relight.width) + size_t(px)];
-      for (int s = 0; s < relight.samples && inside; ++s) {
-        const float fx = (float(s % n) + 0.5f) / float(n);
-        const float fy = (float(s / n) + 0.5f) / float(n);
-        const Ray ray =
-            camera.generate_ray(float(px) + fx, float(py) + fy, relight.width, relight.height);
-        Hit hit;
-        if (!tracer.intersect(ray, &hit)) {
+  for_each_lookup(
+      tracer, raster, camera, relight,
+      [&](size_t pixel, const Hit* hit, const SurfaceInteraction& si, const size_t* taps) {
+        char& inside = interior[pixel];
+        if (!hit) {
           inside = 0;
-          break;
+          return;
         }
-        const SurfaceInteraction si = tracer.interaction(ray, hit);
-        const int x0 = int(std::floor(si.uv1.x * float(w) - 0.5f));
-        const int y0 = int(std::floor(si.uv1.y * float(h) - 0.5f));
         for (int k = 0; k < 4 && inside; ++k) {
-          const int32_t t =
-              raster.at(std::clamp(x0 + (k & 1), 0, w - 1), std::clamp(y0 + (k >> 1), 0, h - 1));
-          inside = t >= 0 && raster.samples[size_t(t)].instance == int(hit.instance) &&
+          const int32_t t = raster.sample_of[taps[k]];
+          inside = t >= 0 && raster.samples[size_t(t)].instance == int(hit->instance) &&
                    glm::dot(raster.samples[size_t(t)].geometric_normal, si.ng) >= 0.999f;
         }
-      }
-    }
+      });
   return interior;
 }
 
