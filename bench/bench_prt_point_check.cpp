@@ -21,6 +21,7 @@
 
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
@@ -241,6 +242,8 @@ int run_prt_point_check(SuiteArgs args) {
   }
 
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
+  const bake::Seams seams =
+      pixels.empty() ? bake::Seams{} : bake::find_seams(scene, map.width, map.height);
   for (const std::string& spec : pixels) {
     // A pixel's centre: its hit, the four taps and what each stands for.
     int px = 0, py = 0;
@@ -262,6 +265,32 @@ int run_prt_point_check(SuiteArgs args) {
         px, py, hit.instance, scene.instances[hit.instance].name.c_str(), si.p.x, si.p.y, si.p.z,
         si.ng.x, si.ng.y, si.ng.z, si.uv1.x * map.width, si.uv1.y * map.height, e.mean,
         std::sqrt(e.variance_of_mean));
+    // Seam samples within 1.5 texels of the hit's lookup, and what lies on their other side.
+    const vec2 at(si.uv1.x * float(map.width), si.uv1.y * float(map.height));
+    int listed = 0;
+    for (const bake::SeamSample& seam : seams.samples)
+      for (int side = 0; side < 2 && listed < 6; ++side) {
+        if (glm::length(seam.side[side] - at) > 1.5f) continue;
+        const vec2 other = seam.side[1 - side];
+        const int ox = std::clamp(int(other.x), 0, map.width - 1);
+        const int oy = std::clamp(int(other.y), 0, map.height - 1);
+        const int32_t k = raster.at(ox, oy);
+        if (k < 0) {
+          std::printf("  seam (%.2f %.2f) ~ (%.2f %.2f): uncovered there, baked %.4g\n",
+                      seam.side[side].x, seam.side[side].y, other.x, other.y,
+                      transfer_dot(map.pixel(ox, oy), sh));
+        } else {
+          const atlas::TexelSample& ts = raster.samples[size_t(k)];
+          std::printf(
+              "  seam (%.2f %.2f) ~ (%.2f %.2f): instance %d '%s' p (%.3f %.3f %.3f) "
+              "n (%.3f %.3f %.3f), baked %.4g\n",
+              seam.side[side].x, seam.side[side].y, other.x, other.y, ts.instance,
+              scene.instances[size_t(ts.instance)].name.c_str(), ts.position.x, ts.position.y,
+              ts.position.z, ts.normal.x, ts.normal.y, ts.normal.z,
+              transfer_dot(map.pixel(ox, oy), sh));
+        }
+        ++listed;
+      }
     const float u = si.uv1.x * float(map.width) - 0.5f, v = si.uv1.y * float(map.height) - 0.5f;
     const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
     for (int t = 0; t < 4; ++t) {
