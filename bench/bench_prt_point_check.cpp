@@ -244,6 +244,10 @@ int run_prt_point_check(SuiteArgs args) {
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   const bake::Seams seams =
       pixels.empty() ? bake::Seams{} : bake::find_seams(scene, map.width, map.height);
+  if (!pixels.empty())
+    std::printf("seams: %lld edges (%lld within an instance), %lld coplanar pairs\n",
+                (long long)seams.edges, (long long)seams.within_instance,
+                (long long)seams.coplanar_pairs);
   for (const std::string& spec : pixels) {
     // A pixel's centre: its hit, the four taps and what each stands for.
     int px = 0, py = 0;

@@ -463,21 +463,5 @@ TEST(LightmapSeams, CreasesAreNoSeams) {
   EXPECT_EQ(bake::find_seams(c.scene, c.raster.width, c.raster.height).edges, 0);
 }
 
-// A crease under smooth shading is no seam either: the box's corners with one averaged
-// normal per corner (the shading normals agree across every edge), as Sibenik's vault meets
-// its ribs. Its faces see different light whatever the normals say.
-TEST(LightmapSeams, SmoothShadedCreasesAreNoSeams) {
-  Scene scene;
-  Material m;
-  const int mat = add_material(scene, m);
-  add_triangles(scene, inward_box(vec3(-1.0f), vec3(1.0f), false), mat, "box");
-  Mesh& box = scene.meshes.back();
-  box.normals.clear();
-  for (const vec3& p : box.positions) box.normals.push_back(-glm::normalize(p));  // inward
-  test::ChartedScene c(std::move(scene), 64);
-  EXPECT_EQ(bake::find_seams(c.scene, c.raster.width, c.raster.height, {.coplanar = false}).edges,
-            0);
-}
-
 }  // namespace
 }  // namespace illum

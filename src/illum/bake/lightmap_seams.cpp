@@ -187,12 +187,7 @@ Seams find_seams(const Scene& scene, int width, int height, const SeamFindOption
       if (j <= int(i)) continue;  // each pair once
       const TriangleEdge& a = edges[i];
       const TriangleEdge& b = edges[size_t(j)];
-      // Smooth in the geometry too: the light falls on the faces, not on the shading normals
-      // (visibility is cut at the geometric plane), so a smooth-shaded crease — Sibenik's
-      // vault facets meet its ribs at 50–80° under averaged vertex normals — has different
-      // light on its two sides, and stitching them carried a lit side's light onto an unlit
-      // one (docs/prt.md, "Where the direct light's deficit went").
-      bool smooth = glm::dot(a.plane_normal, b.plane_normal) >= kSeamNormalCos, split = false;
+      bool smooth = true, split = false;
       for (int k = 0; k < 2; ++k) {
         smooth = smooth && glm::dot(a.end[k].normal, b.end[k].normal) >= kSeamNormalCos;
         split = split || glm::length(a.end[k].uv - b.end[k].uv) > 1e-3f;

@@ -74,8 +74,7 @@ struct SeamFindOptions {
 // Finds every seam edge of the light-mapped instances of `scene` (uv1 applied, the atlas
 // `width` × `height`): two triangle edges with the same world end points (within the
 // tolerance), within one instance or between two, whose uv1 differ at either end by more
-// than 1e-3 texel, whose shading normals agree (kSeamNormalCos) at both ends and whose
-// triangles' planes agree too (a smooth-shaded crease is no seam). With
+// than 1e-3 texel, and whose shading normals agree (kSeamNormalCos) at both ends. With
 // `options.coplanar`, then the pairs of open edges that lie in one plane and overlap in
 // part (lightmap_coplanar.h). Deterministic (triangle order).
 Seams find_seams(const Scene& scene, int width, int height, const SeamFindOptions& options = {});
