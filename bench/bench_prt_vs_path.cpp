@@ -31,6 +31,7 @@
 
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/texel_raster.h"
+#include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
@@ -42,6 +43,7 @@
 #include "illum/render/integrator.h"
 #include "illum/scene/load.h"
 #include "illum/trace/ray_tracer.h"
+#include "prt_direct_spread.h"
 #include "suites.h"
 
 namespace illum::bench {
@@ -56,6 +58,8 @@ struct PrtVsPathArgs {
   std::string mode = "interreflected";
   int width = 128, height = 128, relight_spp = 16, path_spp = 64, max_bounces = 16, region = 8;
   int threads = 0;
+  bool stitch = true, push_out = true;  // as `illum bake --kind prt` does
+  int spread_seeds = 16;  // bakes of the seen texels' direct transfer for the relit side's σ
   uint64_t seed = 1;
   double shoot_tolerance = 1e-3, shoot_relative_tolerance = 0.05;
   std::string image_path, json_path;
@@ -143,9 +147,18 @@ int run_prt_vs_path(SuiteArgs args) {
       ->check(CLI::Range(2e-6, 1.0));
   app.add_option("--threads", a.threads, "worker threads (0: all)")->check(CLI::Range(0, 4096));
   app.add_option("--seed", a.seed, "bake seed (path tracer: seed + 10, + 11, + 12)");
+  app.add_option("--stitch", a.stitch, "stitch the SHL-map's seams (as the CLI's bake)");
+  app.add_option("--push-out", a.push_out,
+                 "move texel samples out of geometry first (as the CLI's bake)");
+  app.add_option("--spread-seeds", a.spread_seeds,
+                 "direct-transfer bakes of the texels seen, for the relit side's sigma "
+                 "(0: two-run sigma only)")
+      ->check(CLI::Range(0, 1024));
   app.add_option("--image", a.image_path, "write the image grid (PNG) here");
   app.add_option("--json", a.json_path, "write the figures here");
   if (!parse_args(app, args)) return 0;
+  if (a.spread_seeds == 1 || a.spread_seeds == 2)
+    throw Error("prt-vs-path: --spread-seeds must be 0 (off) or at least 3");
   if (a.suns.empty() && a.envs.empty())
     throw Error("prt-vs-path: give at least one --sun or --env");
   check_output_folder(a.json_path);
@@ -193,12 +206,18 @@ int run_prt_vs_path(SuiteArgs args) {
   const atlas::Atlas atlas = atlas::build_atlas(scene, atlas_options);
   atlas::apply_atlas(scene, atlas);
   const RayTracer tracer(scene);
-  const atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
+  atlas::TexelRaster raster = atlas::rasterize_texels(scene, atlas.width, atlas.height);
+  if (a.push_out) {
+    const bake::TexelPushOut pushed = bake::keep_texels_out_of_geometry(scene, tracer, raster);
+    std::printf("texels pushed out of geometry: %lld moved, %lld rejected\n",
+                (long long)pushed.moved, (long long)pushed.rejected);
+  }
   bake::PrtBakeOptions bake_options = bake::PrtBakeOptions::from_params(
       Params({{"bands", a.bands},
               {"mode", a.mode},
               {"spp", a.bake_spp},
               {"seed", a.seed},
+              {"stitch", a.stitch},
               {"shoot_tolerance", a.shoot_tolerance},
               {"shoot_relative_tolerance", a.shoot_relative_tolerance}},
              "prt-vs-path"));
@@ -238,6 +257,34 @@ int run_prt_vs_path(SuiteArgs args) {
     flat[i] = footprints[i] == bake::PixelFootprint::kFlat;
   }
 
+  bake::RelightOptions ro;
+  ro.width = w;
+  ro.height = h;
+  ro.samples = a.relight_spp;
+  ro.background = false;
+  // The relit side's σ from many bakes of the direct transfer of the texels seen (as much of
+  // the bake's noise as is heavy-tailed; prt_direct_spread.h says why two runs fall short).
+  // Seeds a.seed, a.seed + 1 are the two bakes' own direct transfer (stitching aside).
+  std::vector<std::vector<Image>> spread;
+  size_t spread_texels = 0;
+  if (a.spread_seeds > 0) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // dilate + 1: an uncovered tap's value comes from texels up to `dilate` passes away.
+    const atlas::TexelRaster seen =
+        texels_seen(tracer, raster, camera, ro, bake_options.dilate + 1);
+    spread_texels = seen.samples.size();
+    std::vector<bake::ShLight> shs;
+    for (const TestLight& t : lights) shs.push_back(t.sh);
+    spread = direct_relit_over_seeds(scene, tracer, seen, shs, camera, ro, bake_options, a.seed,
+                                     a.spread_seeds);
+    std::printf("direct-transfer spread: %d bakes of %zu texels seen, %.2f s\n", a.spread_seeds,
+                spread_texels, seconds_since(t0));
+  }
+
+  // Flat pixels whose lookups read only texels of the surface they show (the rest read a
+  // dilated border texel, another chart or the far side of a crease: discretization).
+  const std::vector<char> interior = interior_lookups(tracer, raster, camera, ro);
+
   const int cols = 4, gap = 2;
   Image grid(cols * w + (cols - 1) * gap, int(lights.size()) * (h + gap) - gap, 3, 1.0f);
   nlohmann::json out = {{"suite", "prt-vs-path"},
@@ -245,6 +292,8 @@ int run_prt_vs_path(SuiteArgs args) {
                         {"scene", a.scene},
                         {"bands", set.bands},
                         {"mode", a.mode},
+                        {"stitch", a.stitch},
+                        {"push_out", a.push_out},
                         {"atlas", {atlas.width, atlas.height}},
                         {"texels", baked.texels},
                         {"bake_spp", a.bake_spp},
@@ -258,11 +307,6 @@ int run_prt_vs_path(SuiteArgs args) {
   out.update(bake::shooting_record(baked));
   for (size_t li = 0; li < lights.size(); ++li) {
     const TestLight& t = lights[li];
-    bake::RelightOptions ro;
-    ro.width = w;
-    ro.height = h;
-    ro.samples = a.relight_spp;
-    ro.background = false;
     auto t0 = std::chrono::steady_clock::now();
     const Image relit = bake::relight(scene, tracer, sets[0], t.sh, camera, ro);
     const double relight_s = seconds_since(t0);
@@ -321,6 +365,19 @@ int run_prt_vs_path(SuiteArgs args) {
         vp[i] = 0.25 * (r1 - r2) * (r1 - r2);
         vq[i] = 0.25 * (q1 - q2) * (q1 - q2);
       }
+    // The spread bakes' variance of one bake's pixel, over 2: that of the mean of two.
+    std::vector<double> vs(np, 0.0);
+    for (size_t i = 0; i < np && !spread.empty(); ++i) {
+      const int x = int(i % size_t(w)), y = int(i / size_t(w));
+      double s1 = 0.0, s2 = 0.0;
+      for (const std::vector<Image>& images : spread) {
+        const double v = sum_of(images[li], x, y);
+        s1 += v;
+        s2 += v * v;
+      }
+      const double k = double(spread.size());
+      vs[i] = std::max(0.0, (s2 - s1 * s1 / k) / (k - 1.0)) / 2.0;
+    }
     const auto pooled = [&](const std::vector<double>& v, int x, int y) {
       double sum = 0.0;
       int count = 0;
@@ -329,25 +386,77 @@ int run_prt_vs_path(SuiteArgs args) {
           if (flat[size_t(yy) * w + xx]) sum += v[size_t(yy) * w + xx], ++count;
       return sum / double(std::max(count, 1));
     };
-    double sum_q = 0.0, sum_d = 0.0, sum_d2 = 0.0, sum_s2 = 0.0, worst = 0.0;
-    size_t count = 0, within3 = 0, within5 = 0;
+    // σ² of a pixel: the path tracer's pooled two-run variance plus the relit side's — the
+    // spread bakes' where there are (shadowed: that is the bake's whole noise; interreflected:
+    // the larger of it and the pooled two-run variance, which holds the bounce's noise), else
+    // the pooled two-run variance. The two-run figures are kept beside for comparison.
+    const bool shadowed = a.mode == "shadowed";
+    double sum_q = 0.0, sum_d = 0.0, sum_d2 = 0.0, sum_s2 = 0.0, worst = 0.0, sum_vq = 0.0;
+    double worst_two_run = 0.0, sum_s2_two_run = 0.0;
+    size_t count = 0, within3 = 0, within5 = 0, within3_two_run = 0, within5_two_run = 0;
+    struct Outlier {
+      double t;
+      int x, y;
+      double relit, path, sigma;
+    };
+    std::vector<Outlier> outliers;
+    double interior_q = 0.0, interior_d = 0.0, interior_worst = 0.0;
+    size_t interior_count = 0, interior_within3 = 0, interior_within5 = 0;
+    std::vector<double> spread_sum(spread.size(), 0.0);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * w + x;
         if (!flat[i]) continue;
         const double d = mp[i] - mq[i];
-        const double sigma = std::sqrt(pooled(vp, x, y) + pooled(vq, x, y));
+        const double relit_var_two_run = pooled(vp, x, y);
+        const double relit_var = spread.empty() ? relit_var_two_run
+                                 : shadowed     ? vs[i]
+                                                : std::max(vs[i], relit_var_two_run);
+        const double sigma = std::sqrt(relit_var + pooled(vq, x, y));
+        const double sigma_two_run = std::sqrt(relit_var_two_run + pooled(vq, x, y));
         sum_q += mq[i];
         sum_d += d;
         sum_d2 += d * d;
         sum_s2 += sigma * sigma;
+        sum_s2_two_run += sigma_two_run * sigma_two_run;
+        sum_vq += vq[i];
         if (std::abs(d) <= 3.0 * sigma) ++within3;
         if (std::abs(d) <= 5.0 * sigma) ++within5;
+        if (std::abs(d) <= 3.0 * sigma_two_run) ++within3_two_run;
+        if (std::abs(d) <= 5.0 * sigma_two_run) ++within5_two_run;
         if (sigma > 0.0) worst = std::max(worst, std::abs(d) / sigma);
+        if (sigma_two_run > 0.0)
+          worst_two_run = std::max(worst_two_run, std::abs(d) / sigma_two_run);
+        if (sigma > 0.0 && std::abs(d) > 5.0 * sigma)
+          outliers.push_back({d / sigma, x, y, mp[i], mq[i], sigma});
+        if (interior[i]) {
+          ++interior_count;
+          interior_q += mq[i];
+          interior_d += d;
+          if (std::abs(d) <= 3.0 * sigma) ++interior_within3;
+          if (std::abs(d) <= 5.0 * sigma) ++interior_within5;
+          if (sigma > 0.0) interior_worst = std::max(interior_worst, std::abs(d) / sigma);
+        }
+        for (size_t j = 0; j < spread.size(); ++j) spread_sum[j] += sum_of(spread[j][li], x, y);
         ++count;
       }
     if (count == 0) throw Error("prt-vs-path: no flat surface pixel in the image");
     const double mean = sum_q / double(count);
+    // The bias's standard error. Pixels are not independent on the relit side (neighbours
+    // read the same texels, and a texel's error is heavy-tailed), so RMS σ/√count
+    // understates it; the spread bakes give the bake's part directly: the spread over seeds
+    // of one bake's image mean, over √2 for the mean of two. The path tracer's pixels are
+    // independent: its part is √(Σ v_q)/count.
+    double bias_se = std::sqrt(sum_vq) / double(count);
+    double spread_bias_sd = 0.0;
+    if (spread.size() >= 2) {
+      double s1 = 0.0, s2 = 0.0;
+      for (double v : spread_sum)
+        s1 += v / double(count), s2 += (v / double(count)) * (v / double(count));
+      const double k = double(spread.size());
+      spread_bias_sd = std::sqrt(std::max(0.0, (s2 - s1 * s1 / k) / (k - 1.0)));
+      bias_se = std::sqrt(bias_se * bias_se + spread_bias_sd * spread_bias_sd / 2.0);
+    }
     // Per region: means over its pixels, kept where every pixel is a surface.
     const int rs = a.region, rx_n = w / rs, ry_n = h / rs;
     struct Region {
@@ -400,6 +509,21 @@ int run_prt_vs_path(SuiteArgs args) {
                           {"pixels_within_3_sigma", double(within3) / double(count)},
                           {"pixels_within_5_sigma", double(within5) / double(count)},
                           {"worst_d_over_sigma", worst},
+                          {"bias_standard_error", bias_se / mean},
+                          {"interior_pixels", interior_count},
+                          {"interior_bias", interior_q > 0.0 ? interior_d / interior_q : 0.0},
+                          {"interior_within_3_sigma",
+                           double(interior_within3) / double(std::max<size_t>(interior_count, 1))},
+                          {"interior_within_5_sigma",
+                           double(interior_within5) / double(std::max<size_t>(interior_count, 1))},
+                          {"interior_worst_d_over_sigma", interior_worst},
+                          {"spread_seeds", spread.size()},
+                          {"spread_texels", spread_texels},
+                          {"spread_bias_sd", spread_bias_sd / mean},
+                          {"two_run_sigma_rms", std::sqrt(sum_s2_two_run / double(count)) / mean},
+                          {"two_run_within_3_sigma", double(within3_two_run) / double(count)},
+                          {"two_run_within_5_sigma", double(within5_two_run) / double(count)},
+                          {"two_run_worst_d_over_sigma", worst_two_run},
                           {"relit_vs_path_region", stats(region_rel)},
                           {"band_limiting_all_regions", stats(band_all)},
                           {"band_limiting_smooth_regions", stats(band_smooth)},
@@ -407,18 +531,46 @@ int run_prt_vs_path(SuiteArgs args) {
     std::printf(
         "%s%s: relight %.3f s, path %.1f s\n"
         "  relit vs band-limited path, %zu flat pixels (relative to the mean %.4g): bias %+.4f, "
-        "rms %.4f, rms sigma %.4f; within 3 sigma %.4f, within 5 sigma %.4f, worst %.2f sigma\n"
+        "± %.4f (%.1f se; one bake's image mean spreads %.4f over %zu seeds), rms %.4f, rms sigma "
+        "%.4f; within 3 sigma %.4f, within 5 sigma %.4f, worst %.2f sigma (two-run sigma: rms "
+        "%.4f, within 3 %.4f, within 5 %.4f, worst %.2f)\n"
+        "  interior lookups, %zu flat pixels: bias %+.4f, within 3 sigma %.4f, within 5 sigma "
+        "%.4f, worst %.2f sigma\n"
         "  per region (%zu): median %.4f, max %.4f\n"
         "  band-limiting error (path, true vs band-limited light): all regions median %.4f max "
         "%.4f; smooth regions (%zu) median %.4f max %.4f; relit vs true light on smooth regions "
         "median %.4f max %.4f\n",
         t.name.c_str(), rings ? " (band-limited light rings negative)" : "", relight_s, path_s,
-        count, mean, sum_d / double(count) / mean, std::sqrt(sum_d2 / double(count)) / mean,
+        count, mean, sum_d / double(count) / mean, bias_se / mean,
+        bias_se > 0.0 ? std::abs(sum_d / double(count)) / bias_se : 0.0, spread_bias_sd / mean,
+        spread.size(), std::sqrt(sum_d2 / double(count)) / mean,
         std::sqrt(sum_s2 / double(count)) / mean, double(within3) / double(count),
-        double(within5) / double(count), worst, region_rel.size(), percentile(region_rel, 0.5),
-        biggest(region_rel), percentile(band_all, 0.5), biggest(band_all), band_smooth.size(),
+        double(within5) / double(count), worst, std::sqrt(sum_s2_two_run / double(count)) / mean,
+        double(within3_two_run) / double(count), double(within5_two_run) / double(count),
+        worst_two_run, interior_count, interior_q > 0.0 ? interior_d / interior_q : 0.0,
+        double(interior_within3) / double(std::max<size_t>(interior_count, 1)),
+        double(interior_within5) / double(std::max<size_t>(interior_count, 1)), interior_worst,
+        region_rel.size(), percentile(region_rel, 0.5), biggest(region_rel),
+        percentile(band_all, 0.5), biggest(band_all), band_smooth.size(),
         percentile(band_smooth, 0.5), biggest(band_smooth), percentile(relit_true_smooth, 0.5),
         biggest(relit_true_smooth));
+    // The worst pixels, to look at (x right, y down, as the grid).
+    std::sort(outliers.begin(), outliers.end(),
+              [](const Outlier& p, const Outlier& q) { return std::abs(p.t) > std::abs(q.t); });
+    nlohmann::json worst_pixels = nlohmann::json::array();
+    for (size_t k = 0; k < std::min<size_t>(outliers.size(), 8); ++k) {
+      const Outlier& o = outliers[k];
+      worst_pixels.push_back({{"x", o.x},
+                              {"y", o.y},
+                              {"d_over_sigma", o.t},
+                              {"relit", o.relit / mean},
+                              {"path", o.path / mean},
+                              {"interior", bool(interior[size_t(o.y) * w + o.x])}});
+      std::printf("  beyond 5 sigma: pixel (%d, %d) %+.1f sigma, relit %.4g path %.4g (x mean)%s\n",
+                  o.x, o.y, o.t, o.relit / mean, o.path / mean,
+                  interior[size_t(o.y) * w + o.x] ? ", interior lookups" : "");
+    }
+    row["worst_pixels"] = worst_pixels;
     std::fflush(stdout);
     out["lights"].push_back(row);
 

@@ -16,7 +16,11 @@
 # cores) sets the worker count; RESOLUTION,
 # BAKE_SPP, WIDTH, HEIGHT and PATH_SPP override the full run's sizes (1024, 128, 192, 128,
 # 1024). Path-tracing time grows as WIDTH·HEIGHT·PATH_SPP (15 images: 5 a light), the bake
-# as RESOLUTION²·BAKE_SPP (two bakes).
+# as RESOLUTION²·BAKE_SPP (two bakes). MODE (interreflected) and MAX_BOUNCES (8) select the
+# transfer and the path tracer's depth (direct light only: MODE=shadowed MAX_BOUNCES=1);
+# STITCH (true) and PUSH_OUT (true) the bake's seam stitching and texel push-out, as the
+# CLI's bake; SPREAD_SEEDS (16) the bakes of the seen texels' direct transfer that give the
+# relit side's σ and the bias's standard error (0: the two-run σ only).
 #
 # The suns: Sibenik is closed but for its windows and door, and the scene's own sun
 # (0.354,−0.866,−0.354) lights 0.4 % of the camera's view directly. A scan of 144 directions
@@ -45,7 +49,8 @@ esac
 mkdir -p "$out"
 cmd=("$bench" prt-vs-path --scene sibenik
   --sun=-0.123,-0.707,-0.696,10 --sun=-0.908,-0.259,0.330,10 --env "$env_map"
-  --bands 6 --mode interreflected "${sizes[@]}" --max-bounces 8
+  --bands 6 --mode "${MODE:-interreflected}" "${sizes[@]}" --max-bounces "${MAX_BOUNCES:-8}"
+  --stitch "${STITCH:-true}" --push-out "${PUSH_OUT:-true}" --spread-seeds "${SPREAD_SEEDS:-16}"
   --threads "${THREADS:-0}" --seed 1
   --image "$out/prt_vs_path_sibenik.png" --json "$out/sibenik.json")
 printf '%q ' "${cmd[@]}" > "$out/command.txt"

@@ -42,6 +42,8 @@ int run_probes(SuiteArgs args);  // bench_probes.cpp: probe bake time per 1000 p
 int run_atlas(SuiteArgs args);   // bench_atlas.cpp: atlas charts, utilisation, stretch, time
 // bench_prt_vs_path.cpp: PRT relit from one bake vs the path tracer, image grid and errors
 int run_prt_vs_path(SuiteArgs args);
+// bench_prt_point_check.cpp: direct PRT transfer at its texels vs the integral at camera hits
+int run_prt_point_check(SuiteArgs args);
 // bench_photon_defaults.cpp: the photon integrator's defaults vs the path tracer
 int run_photon_defaults(SuiteArgs args);
 // bench_converge.cpp: equal-noise efficiency, illum vs Blender Cycles (peer)

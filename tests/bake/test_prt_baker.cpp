@@ -380,6 +380,36 @@ TEST(PrtBaker, SameSeedSameTransferWhateverTheThreads) {
   EXPECT_EQ(one.vertex_transfer, two.vertex_transfer);
 }
 
+// A texel's direct transfer depends on nothing but its own sample and the seed (its rays
+// are seeded by its atlas coordinates), so a bake of a few texels gives them the values a
+// bake of the whole raster does: `illum-bench prt-vs-path` bakes the texels a camera sees
+// over many seeds that way, for the relit side's σ (bench/prt_direct_spread.h).
+TEST(PrtBaker, ShadowedTexelTransferDoesNotDependOnTheOtherTexels) {
+  const ChartedCornell cornell;
+  PrtBakeOptions o = options_for(PrtMode::kShadowed, 3, 16);
+  o.vertices = false;
+  o.dilate = 0;
+  const PrtBake whole = bake_prt(cornell.scene, *cornell.tracer, cornell.raster, o);
+  atlas::TexelRaster some;
+  some.width = cornell.raster.width;
+  some.height = cornell.raster.height;
+  some.sample_of.assign(cornell.raster.sample_of.size(), -1);
+  for (size_t k = 0; k < cornell.raster.samples.size(); k += 3) {
+    const atlas::TexelSample& s = cornell.raster.samples[k];
+    some.sample_of[size_t(s.y) * size_t(some.width) + size_t(s.x)] = int32_t(some.samples.size());
+    some.samples.push_back(s);
+  }
+  const PrtBake part = bake_prt(cornell.scene, *cornell.tracer, some, o);
+  ASSERT_GT(some.samples.size(), 100u);
+  const size_t channels = size_t(whole.texel_transfer.channels);
+  size_t differ = 0;
+  for (const atlas::TexelSample& s : some.samples)
+    differ += !std::equal(part.texel_transfer.pixel(s.x, s.y),
+                          part.texel_transfer.pixel(s.x, s.y) + channels,
+                          whole.texel_transfer.pixel(s.x, s.y));
+  EXPECT_EQ(differ, 0u) << "of " << some.samples.size() << " texels";
+}
+
 TEST(PrtBaker, RefusesOptionsOutOfRange) {
   auto error = [](const nlohmann::json& j) -> std::string {
     try {
