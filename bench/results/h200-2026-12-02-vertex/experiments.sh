@@ -4,13 +4,7 @@
 # cluster order, so runs of clusters merge into few draws) and ILLUM_EXP_NO_OVERDRAW (clusters
 # ordered for vertex reuse only) — and the vertex-invocation counts now in the counting frame.
 set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-gunzip -f .device/lib/*.gz .device/scenes/sibenik/sibenik.obj.gz .device/bin/*.gz .device/base/*.gz
-chmod +x .device/bin/* .device/base/*
-source .device/env.sh
-export ILLUM_DATA_DIR=$PWD/data
-mkdir -p ../shared/scenes && ln -sfn "$PWD/.device/scenes/sibenik" ../shared/scenes/sibenik
-R=/tmp/r; mkdir -p $R
+source bench/results/h200-2026-12-02-vertex/device_setup.sh
 run() {  # NAME [env]
   local name=$1; shift
   env "$@" FRAMES=200 WARMUP=20 REPEATS=30 SCENES="sibenik" SIZES="960x540 1920x1080" \

@@ -3,13 +3,7 @@
 # group), through environment switches that existed only in that build (ILLUM_EXP_CASCADE_GROUP,
 # ILLUM_EXP_SPOT_GROUP); Sibenik 1920×1080, visibility pipeline, maps every frame.
 set -u
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-gunzip -f .device/lib/*.gz .device/scenes/sibenik/sibenik.obj.gz .device/bin/*.gz .device/base/*.gz
-chmod +x .device/bin/* .device/base/*
-source .device/env.sh
-export ILLUM_DATA_DIR=$PWD/data
-mkdir -p ../shared/scenes && ln -sfn "$PWD/.device/scenes/sibenik" ../shared/scenes/sibenik
-R=/tmp/r; mkdir -p $R
+source bench/results/h200-2026-12-02-vertex/device_setup.sh
 for g in "c1" "c2 ILLUM_EXP_CASCADE_GROUP=2" "c4 ILLUM_EXP_CASCADE_GROUP=4" "c8 ILLUM_EXP_CASCADE_GROUP=8" "s4 ILLUM_EXP_SPOT_GROUP=4 ILLUM_EXP_CASCADE_GROUP=4"; do
   set -- $g; name=$1; shift
   env "$@" FRAMES=200 WARMUP=20 REPEATS=20 SCENES="sibenik" SIZES="1920x1080" PIPELINES="visibility" \

@@ -1,20 +1,14 @@
 #!/bin/bash
 # Depth-like passes on the packed position stream, the pre-pass on a position-only vertex
-# shader, and triangles ordered within each cluster (meshoptimizer: vertex reuse, then
-# overdraw) — against the bundle of main before them (.device/base, occlusion culling off as
+# shader, and triangles ordered within each cluster (meshoptimizer: vertex reuse; the first
+# runs also ordered for overdraw, dropped after experiments.sh) — against the bundle of main before them (.device/base, occlusion culling off as
 # main's default; the unordered run was the new bundle with the within-cluster order switched
 # off by an environment variable, removed since), on the H200: Sibenik and Cornell × SIZES × PIPELINES × {every, cached}.
 #   bash bench/results/h200-2026-12-02-vertex/run.sh "SIZES" "PIPELINES"   (repository root;
 #   .device holds the new bundle in bin/ and main's in base/, binaries gzipped)
 set -u
 sizes=$1 pipelines=$2
-for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig
-gunzip -f .device/lib/*.gz .device/scenes/sibenik/sibenik.obj.gz .device/bin/*.gz .device/base/*.gz
-chmod +x .device/bin/* .device/base/*
-source .device/env.sh
-export ILLUM_DATA_DIR=$PWD/data
-mkdir -p ../shared/scenes && ln -sfn "$PWD/.device/scenes/sibenik" ../shared/scenes/sibenik
-R=/tmp/r; mkdir -p $R
+source bench/results/h200-2026-12-02-vertex/device_setup.sh
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader | tee $R/gpu.txt
 run() {  # NAME ILLUM (the bench is always the new one: the same bounds for both)
   local name=$1 illum=$2
