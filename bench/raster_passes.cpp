@@ -253,27 +253,27 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
       if (depth) depth.assume_state(ds, ds_stages, ds_access);
     }
   });
-  if (vertex_invocations) *vertex_invocations = -1.0;
-  if (statistics) {
-    uint64_t counted = 0;
+  // A one-query pool's result, the pool destroyed; false where the result did not come.
+  auto take_result = [&](VkQueryPool pool, uint64_t* counted) {
     const VkResult got =
-        vkGetQueryPoolResults(ctx.device(), statistics, 0, 1, sizeof(counted), &counted,
-                              sizeof(counted), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
-    vkDestroyQueryPool(ctx.device(), statistics, nullptr);
-    if (got == VK_SUCCESS) *vertex_invocations = static_cast<double>(counted);
-  }
+        vkGetQueryPoolResults(ctx.device(), pool, 0, 1, sizeof(*counted), counted, sizeof(*counted),
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    vkDestroyQueryPool(ctx.device(), pool, nullptr);
+    return got == VK_SUCCESS;
+  };
+  if (vertex_invocations) *vertex_invocations = -1.0;
+  uint64_t invocations = 0;
+  if (statistics && take_result(statistics, &invocations))
+    *vertex_invocations = static_cast<double>(invocations);
   if (samples) {
     uint64_t counted = 0;
-    const VkResult got =
-        vkGetQueryPoolResults(ctx.device(), samples, 0, 1, sizeof(counted), &counted,
-                              sizeof(counted), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
-    vkDestroyQueryPool(ctx.device(), samples, nullptr);
+    const bool got = take_result(samples, &counted);
     // Whole layers, and the rows of the partial one whose pixel centres it covers (one row
     // of slack for how the edge falls on them).
     const double full = std::floor(geometry.mixed_layers);
     const double rows = std::ceil((geometry.mixed_layers - full) * f.height - 0.5 - 1e-9);
     const double want = (full * f.height + std::max(0.0, rows)) * f.width;
-    if (got != VK_SUCCESS || std::abs(static_cast<double>(counted) - want) > f.width)
+    if (!got || std::abs(static_cast<double>(counted) - want) > f.width)
       throw Error(
           fmt::format("illum-bench raster: the mixed pass for {} covered {} samples, "
                       "not the {} of {:.4f} layers",

@@ -10,7 +10,7 @@ namespace illum::realtime {
 gpu::VertexInput mesh_vertex_input(bool position_only) {
   gpu::VertexInput in;
   if (position_only) {
-    in.stride = sizeof(vec3);  // GpuScene::positions()
+    in.stride = kPositionStride;  // GpuScene::positions()
     in.attributes.push_back({0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0});
     return in;
   }
@@ -159,7 +159,7 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
   VkDeviceSize offset = 0;
   // Depth-like passes read positions only, from their packed stream; and no fragment stage
   // of theirs reads a material, so they bind none.
-  const bool position_only = pipeline.vertex_stride() == sizeof(vec3);
+  const bool position_only = pipeline.vertex_stride() == kPositionStride;
   VkBuffer vb = position_only ? scene_.positions().handle() : scene_.vertices().handle();
   vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
   vkCmdBindIndexBuffer(cmd, scene_.indices().handle(), 0, VK_INDEX_TYPE_UINT32);

@@ -20,7 +20,10 @@
 
 namespace illum::realtime {
 
-// The vertex layout of the scene's vertex buffer (position only for depth-like passes).
+// The vertex layout of the scene's vertex buffer, or for depth-like passes of its packed
+// positions (GpuScene::positions(), this stride; SceneDrawer binds that stream to pipelines
+// built with it).
+inline constexpr uint32_t kPositionStride = sizeof(vec3);
 gpu::VertexInput mesh_vertex_input(bool position_only);
 // The counting variant of a scene-draw pipeline (SceneDrawer::render_counted): the same
 // vertex stage and attachments, no test, no fragment shader, nothing written.
