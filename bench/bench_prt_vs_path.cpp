@@ -95,6 +95,25 @@ struct TestLight {
 };
 
 // Channel-summed pixel value.
+// Pixels judged against their σ: how many, the shares within 3σ and 5σ, the worst |d| / σ.
+struct SigmaTally {
+  size_t count = 0, within3 = 0, within5 = 0;
+  double worst = 0.0;
+  void add(double d, double sigma) {
+    ++count;
+    within3 += std::abs(d) <= 3.0 * sigma;
+    within5 += std::abs(d) <= 5.0 * sigma;
+    if (sigma > 0.0) worst = std::max(worst, std::abs(d) / sigma);
+  }
+  double share3() const { return double(within3) / double(std::max<size_t>(count, 1)); }
+  double share5() const { return double(within5) / double(std::max<size_t>(count, 1)); }
+};
+
+// The unbiased sample variance of k values from their sum s1 and sum of squares s2.
+double sample_variance(double s1, double s2, double k) {
+  return std::max(0.0, (s2 - s1 * s1 / k) / (k - 1.0));
+}
+
 double sum_of(const Image& image, int x, int y) {
   const Color c = image.rgb(x, y);
   return double(c.x) + double(c.y) + double(c.z);
@@ -375,8 +394,7 @@ int run_prt_vs_path(SuiteArgs args) {
         s1 += v;
         s2 += v * v;
       }
-      const double k = double(spread.size());
-      vs[i] = std::max(0.0, (s2 - s1 * s1 / k) / (k - 1.0)) / 2.0;
+      vs[i] = sample_variance(s1, s2, double(spread.size())) / 2.0;
     }
     const auto pooled = [&](const std::vector<double>& v, int x, int y) {
       double sum = 0.0;
@@ -391,17 +409,16 @@ int run_prt_vs_path(SuiteArgs args) {
     // the larger of it and the pooled two-run variance, which holds the bounce's noise), else
     // the pooled two-run variance. The two-run figures are kept beside for comparison.
     const bool shadowed = a.mode == "shadowed";
-    double sum_q = 0.0, sum_d = 0.0, sum_d2 = 0.0, sum_s2 = 0.0, worst = 0.0, sum_vq = 0.0;
-    double worst_two_run = 0.0, sum_s2_two_run = 0.0;
-    size_t count = 0, within3 = 0, within5 = 0, within3_two_run = 0, within5_two_run = 0;
+    double sum_q = 0.0, sum_d = 0.0, sum_d2 = 0.0, sum_s2 = 0.0, sum_vq = 0.0;
+    double sum_s2_two_run = 0.0;
+    SigmaTally tally, tally_two_run, tally_interior;
     struct Outlier {
       double t;
       int x, y;
       double relit, path, sigma;
     };
     std::vector<Outlier> outliers;
-    double interior_q = 0.0, interior_d = 0.0, interior_worst = 0.0;
-    size_t interior_count = 0, interior_within3 = 0, interior_within5 = 0;
+    double interior_q = 0.0, interior_d = 0.0;
     std::vector<double> spread_sum(spread.size(), 0.0);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
@@ -420,26 +437,18 @@ int run_prt_vs_path(SuiteArgs args) {
         sum_s2 += sigma * sigma;
         sum_s2_two_run += sigma_two_run * sigma_two_run;
         sum_vq += vq[i];
-        if (std::abs(d) <= 3.0 * sigma) ++within3;
-        if (std::abs(d) <= 5.0 * sigma) ++within5;
-        if (std::abs(d) <= 3.0 * sigma_two_run) ++within3_two_run;
-        if (std::abs(d) <= 5.0 * sigma_two_run) ++within5_two_run;
-        if (sigma > 0.0) worst = std::max(worst, std::abs(d) / sigma);
-        if (sigma_two_run > 0.0)
-          worst_two_run = std::max(worst_two_run, std::abs(d) / sigma_two_run);
+        tally.add(d, sigma);
+        tally_two_run.add(d, sigma_two_run);
         if (sigma > 0.0 && std::abs(d) > 5.0 * sigma)
           outliers.push_back({d / sigma, x, y, mp[i], mq[i], sigma});
         if (interior[i]) {
-          ++interior_count;
           interior_q += mq[i];
           interior_d += d;
-          if (std::abs(d) <= 3.0 * sigma) ++interior_within3;
-          if (std::abs(d) <= 5.0 * sigma) ++interior_within5;
-          if (sigma > 0.0) interior_worst = std::max(interior_worst, std::abs(d) / sigma);
+          tally_interior.add(d, sigma);
         }
         for (size_t j = 0; j < spread.size(); ++j) spread_sum[j] += sum_of(spread[j][li], x, y);
-        ++count;
       }
+    const size_t count = tally.count;
     if (count == 0) throw Error("prt-vs-path: no flat surface pixel in the image");
     const double mean = sum_q / double(count);
     // The bias's standard error. Pixels are not independent on the relit side (neighbours
@@ -453,8 +462,7 @@ int run_prt_vs_path(SuiteArgs args) {
       double s1 = 0.0, s2 = 0.0;
       for (double v : spread_sum)
         s1 += v / double(count), s2 += (v / double(count)) * (v / double(count));
-      const double k = double(spread.size());
-      spread_bias_sd = std::sqrt(std::max(0.0, (s2 - s1 * s1 / k) / (k - 1.0)));
+      spread_bias_sd = std::sqrt(sample_variance(s1, s2, double(spread.size())));
       bias_se = std::sqrt(bias_se * bias_se + spread_bias_sd * spread_bias_sd / 2.0);
     }
     // Per region: means over its pixels, kept where every pixel is a surface.
@@ -506,24 +514,22 @@ int run_prt_vs_path(SuiteArgs args) {
                           {"relit_vs_path_bias", sum_d / double(count) / mean},
                           {"relit_vs_path_rms", std::sqrt(sum_d2 / double(count)) / mean},
                           {"sigma_rms", std::sqrt(sum_s2 / double(count)) / mean},
-                          {"pixels_within_3_sigma", double(within3) / double(count)},
-                          {"pixels_within_5_sigma", double(within5) / double(count)},
-                          {"worst_d_over_sigma", worst},
+                          {"pixels_within_3_sigma", tally.share3()},
+                          {"pixels_within_5_sigma", tally.share5()},
+                          {"worst_d_over_sigma", tally.worst},
                           {"bias_standard_error", bias_se / mean},
-                          {"interior_pixels", interior_count},
+                          {"interior_pixels", tally_interior.count},
                           {"interior_bias", interior_q > 0.0 ? interior_d / interior_q : 0.0},
-                          {"interior_within_3_sigma",
-                           double(interior_within3) / double(std::max<size_t>(interior_count, 1))},
-                          {"interior_within_5_sigma",
-                           double(interior_within5) / double(std::max<size_t>(interior_count, 1))},
-                          {"interior_worst_d_over_sigma", interior_worst},
+                          {"interior_within_3_sigma", tally_interior.share3()},
+                          {"interior_within_5_sigma", tally_interior.share5()},
+                          {"interior_worst_d_over_sigma", tally_interior.worst},
                           {"spread_seeds", spread.size()},
                           {"spread_texels", spread_texels},
                           {"spread_bias_sd", spread_bias_sd / mean},
                           {"two_run_sigma_rms", std::sqrt(sum_s2_two_run / double(count)) / mean},
-                          {"two_run_within_3_sigma", double(within3_two_run) / double(count)},
-                          {"two_run_within_5_sigma", double(within5_two_run) / double(count)},
-                          {"two_run_worst_d_over_sigma", worst_two_run},
+                          {"two_run_within_3_sigma", tally_two_run.share3()},
+                          {"two_run_within_5_sigma", tally_two_run.share5()},
+                          {"two_run_worst_d_over_sigma", tally_two_run.worst},
                           {"relit_vs_path_region", stats(region_rel)},
                           {"band_limiting_all_regions", stats(band_all)},
                           {"band_limiting_smooth_regions", stats(band_smooth)},
@@ -544,16 +550,14 @@ int run_prt_vs_path(SuiteArgs args) {
         count, mean, sum_d / double(count) / mean, bias_se / mean,
         bias_se > 0.0 ? std::abs(sum_d / double(count)) / bias_se : 0.0, spread_bias_sd / mean,
         spread.size(), std::sqrt(sum_d2 / double(count)) / mean,
-        std::sqrt(sum_s2 / double(count)) / mean, double(within3) / double(count),
-        double(within5) / double(count), worst, std::sqrt(sum_s2_two_run / double(count)) / mean,
-        double(within3_two_run) / double(count), double(within5_two_run) / double(count),
-        worst_two_run, interior_count, interior_q > 0.0 ? interior_d / interior_q : 0.0,
-        double(interior_within3) / double(std::max<size_t>(interior_count, 1)),
-        double(interior_within5) / double(std::max<size_t>(interior_count, 1)), interior_worst,
-        region_rel.size(), percentile(region_rel, 0.5), biggest(region_rel),
-        percentile(band_all, 0.5), biggest(band_all), band_smooth.size(),
-        percentile(band_smooth, 0.5), biggest(band_smooth), percentile(relit_true_smooth, 0.5),
-        biggest(relit_true_smooth));
+        std::sqrt(sum_s2 / double(count)) / mean, tally.share3(), tally.share5(), tally.worst,
+        std::sqrt(sum_s2_two_run / double(count)) / mean, tally_two_run.share3(),
+        tally_two_run.share5(), tally_two_run.worst, tally_interior.count,
+        interior_q > 0.0 ? interior_d / interior_q : 0.0, tally_interior.share3(),
+        tally_interior.share5(), tally_interior.worst, region_rel.size(),
+        percentile(region_rel, 0.5), biggest(region_rel), percentile(band_all, 0.5),
+        biggest(band_all), band_smooth.size(), percentile(band_smooth, 0.5), biggest(band_smooth),
+        percentile(relit_true_smooth, 0.5), biggest(relit_true_smooth));
     // The worst pixels, to look at (x right, y down, as the grid).
     std::sort(outliers.begin(), outliers.end(),
               [](const Outlier& p, const Outlier& q) { return std::abs(p.t) > std::abs(q.t); });

@@ -1,7 +1,6 @@
 #include "prt_direct_spread.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace illum::bench {
 
@@ -9,19 +8,17 @@ namespace {
 
 // Calls visit(pixel index, hit or nullptr on a miss, interaction, taps) for every primary ray
 // of bake::relight's sample grid, with the four bilinear taps its lookup reads (texel
-// indices into the raster, clamped to it as the lookup clamps).
+// indices into the raster; relight_sample_offset and bilinear_texel_taps are relight's own).
 template <typename Visit>
 void for_each_lookup(const RayTracer& tracer, const atlas::TexelRaster& raster,
                      const Camera& camera, const bake::RelightOptions& relight, Visit&& visit) {
   const int w = raster.width, h = raster.height;
-  const int n = int(std::ceil(std::sqrt(double(relight.samples))));
   for (int py = 0; py < relight.height; ++py)
     for (int px = 0; px < relight.width; ++px)
       for (int s = 0; s < relight.samples; ++s) {
-        const float fx = (float(s % n) + 0.5f) / float(n);
-        const float fy = (float(s / n) + 0.5f) / float(n);
+        const vec2 f = bake::relight_sample_offset(s, relight.samples);
         const Ray ray =
-            camera.generate_ray(float(px) + fx, float(py) + fy, relight.width, relight.height);
+            camera.generate_ray(float(px) + f.x, float(py) + f.y, relight.width, relight.height);
         const size_t pixel = size_t(py) * size_t(relight.width) + size_t(px);
         Hit hit;
         if (!tracer.intersect(ray, &hit)) {
@@ -29,12 +26,9 @@ void for_each_lookup(const RayTracer& tracer, const atlas::TexelRaster& raster,
           continue;
         }
         const SurfaceInteraction si = tracer.interaction(ray, hit);
-        const int x0 = int(std::floor(si.uv1.x * float(w) - 0.5f));
-        const int y0 = int(std::floor(si.uv1.y * float(h) - 0.5f));
+        const bake::TexelTaps lookup = bake::bilinear_texel_taps(si.uv1, w, h);
         size_t taps[4];
-        for (int k = 0; k < 4; ++k)
-          taps[k] = size_t(std::clamp(y0 + (k >> 1), 0, h - 1)) * size_t(w) +
-                    size_t(std::clamp(x0 + (k & 1), 0, w - 1));
+        for (int k = 0; k < 4; ++k) taps[k] = size_t(lookup.y[k]) * size_t(w) + size_t(lookup.x[k]);
         visit(pixel, &hit, si, taps);
       }
 }

@@ -105,6 +105,24 @@ Image sh_environment_map(const ShLight& light, int width) {
   return map;
 }
 
+vec2 relight_sample_offset(int s, int samples) {
+  const int n = int(std::ceil(std::sqrt(double(samples))));
+  return {(float(s % n) + 0.5f) / float(n), (float(s / n) + 0.5f) / float(n)};
+}
+
+TexelTaps bilinear_texel_taps(vec2 uv1, int width, int height) {
+  const float u = uv1.x * float(width) - 0.5f, v = uv1.y * float(height) - 0.5f;
+  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+  const float ax = u - float(x0), ay = v - float(y0);
+  TexelTaps taps;
+  for (int k = 0; k < 4; ++k) {
+    taps.x[k] = std::clamp(x0 + (k & 1), 0, width - 1);
+    taps.y[k] = std::clamp(y0 + (k >> 1), 0, height - 1);
+    taps.weight[k] = ((k & 1) ? ax : 1.0f - ax) * ((k >> 1) ? ay : 1.0f - ay);
+  }
+  return taps;
+}
+
 Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, const ShLight& light,
               const Camera& camera, const RelightOptions& options) {
   check_light(light, set.bands);
@@ -119,7 +137,6 @@ Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, co
   ThreadLimit limit(options.threads);
   const size_t channels = size_t(3 * sh::coefficient_count(set.bands));
   const TransferMap& map = set.texel_transfer;
-  const int n = int(std::ceil(std::sqrt(double(options.samples))));
   Image image(options.width, options.height, 3);
 
   parallel_for_tiles(options.width, options.height, 16, [&](const Tile& tile) {
@@ -129,10 +146,9 @@ Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, co
         if (interrupt_requested()) return;
         Color sum(0.0f);
         for (int s = 0; s < options.samples; ++s) {
-          const float fx = (float(s % n) + 0.5f) / float(n);
-          const float fy = (float(s / n) + 0.5f) / float(n);
+          const vec2 f = relight_sample_offset(s, options.samples);
           const Ray ray =
-              camera.generate_ray(float(px) + fx, float(py) + fy, options.width, options.height);
+              camera.generate_ray(float(px) + f.x, float(py) + f.y, options.width, options.height);
           Hit hit;
           if (!tracer.intersect(ray, &hit)) {
             if (options.background) sum += light.radiance(ray.direction);
@@ -155,18 +171,11 @@ Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, co
               for (size_t c = 0; c < channels; ++c) t[c] += 0.25f * r[c];
             }
           } else if (options.lookup == PrtLookup::kTexels) {
-            // Bilinear over texel centres (texel (x, y) covers [x, x+1] in uv1 × size).
-            const float u = si.uv1.x * float(map.width) - 0.5f;
-            const float v = si.uv1.y * float(map.height) - 0.5f;
-            const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
-            const float ax = u - float(x0), ay = v - float(y0);
+            const TexelTaps taps = bilinear_texel_taps(si.uv1, map.width, map.height);
             std::fill(t.begin(), t.end(), 0.0f);
             for (int k = 0; k < 4; ++k) {
-              const int x = std::clamp(x0 + (k & 1), 0, map.width - 1);
-              const int y = std::clamp(y0 + (k >> 1), 0, map.height - 1);
-              const float w = ((k & 1) ? ax : 1.0f - ax) * ((k >> 1) ? ay : 1.0f - ay);
-              const float* src = map.pixel(x, y);
-              for (size_t c = 0; c < channels; ++c) t[c] += w * src[c];
+              const float* src = map.pixel(taps.x[k], taps.y[k]);
+              for (size_t c = 0; c < channels; ++c) t[c] += taps.weight[k] * src[c];
             }
           } else {
             const std::vector<float>& vt = set.vertex_transfer[hit.instance];

@@ -47,6 +47,19 @@ struct RelightOptions {
   int threads = 0;
 };
 
+// Where relight's sample s of `samples` lies inside its pixel: the centre of cell s of an
+// n × n grid, n = ⌈√samples⌉ (in pixel units, [0, 1)²).
+vec2 relight_sample_offset(int s, int samples);
+
+// The four texels relight's bilinear lookup reads at atlas coordinate `uv1` on a width ×
+// height map (texel (x, y) covers [x, x+1] in uv1 × size; taps clamped to the map), tap k at
+// x0 + (k & 1), y0 + (k >> 1), with their weights.
+struct TexelTaps {
+  int x[4], y[4];
+  float weight[4];
+};
+TexelTaps bilinear_texel_taps(vec2 uv1, int width, int height);
+
 // `scene` must have the set applied (apply_prt_set) and `tracer` be built from it. Uses
 // bilinear lookup in the (dilated) texel transfer at uv1, or barycentric interpolation of the
 // vertex transfer. Throws Error if the set lacks the chosen lookup's data or the light's
