@@ -1,5 +1,5 @@
 #version 450
-// Cascade of a directional light: orthographic depth is linear, so gl_FragCoord.z is the
+// VSM cascade of a directional light: orthographic depth is linear, so gl_FragCoord.z is the
 // distance along the light; moments for VSM.
 layout(location = 0) in vec3 in_world;
 layout(location = 0) out vec2 out_moments;

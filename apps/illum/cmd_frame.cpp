@@ -14,6 +14,7 @@
 #include "baked_display.h"
 #include "commands.h"
 #include "illum/core/log.h"
+#include "illum/gpu/allocator.h"
 #include "illum/gpu/context.h"
 #include "illum/gpu/gpu_image.h"
 #include "illum/realtime/renderer.h"
@@ -215,6 +216,13 @@ void run_frame(const FrameArgs& args) {
                           {"frame_gpu_median_ms", median(gpu_total)},
                           {"frame_wall_median_ms", median(wall)},
                           {"validation_messages", context.validation_message_count()}};
+    // Where the frame's memory went: dedicated allocations are the images the driver asked
+    // to have memory of their own (and requests over a quarter block).
+    const gpu::AllocatorStats memory = context.allocator().stats();
+    out["gpu_memory"] = {{"blocks", memory.blocks},
+                         {"dedicated", memory.dedicated},
+                         {"reserved_bytes", memory.reserved_bytes},
+                         {"used_bytes", memory.used_bytes}};
     std::ofstream file(args.json);
     if (!file) throw Error(fmt::format("--json {}: cannot open for writing", args.json));
     file << out.dump(2) << "\n";

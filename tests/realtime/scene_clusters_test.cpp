@@ -86,7 +86,7 @@ TEST_F(SceneClusters, EveryTriangleInOneCompactCluster) {
 TEST(SceneClustersOrder, TrianglesInAClusterAreOrderedForVertexReuse) {
   const Scene scene = cornell_with_fine_floor(48);
   const Mesh& floor = scene.meshes[0];
-  const std::vector<uint32_t> ordered = clustered_indices(floor, kClusterTriangles);
+  const std::vector<uint32_t> ordered = clustered_indices(floor, kClusterTriangles).vertices;
   ASSERT_EQ(ordered.size(), floor.indices.size());
   auto canonical = [](const uint32_t* t) {  // the rotation starting at the smallest index
     const int k = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
@@ -110,6 +110,48 @@ TEST(SceneClustersOrder, TrianglesInAClusterAreOrderedForVertexReuse) {
   }
   std::printf("worst cluster: %.3f vertices a triangle (FIFO of 16)\n", worst);
   EXPECT_LT(worst, 1.0);
+}
+
+// Depth-like passes draw the same triangles on welded positions: the floor's grid with every
+// triangle on three vertices of its own (split corners, as flat shading or texture seams
+// leave them) — each welded corner holds the bit-identical position of its split one, the
+// triangles keep their order, and the welded clusters run under 1 vertex a triangle in
+// meshoptimizer's FIFO-16 model where the split ones must run 3.
+TEST(SceneClustersOrder, DepthPassesDrawWeldedPositionsInTheSameOrder) {
+  Scene scene = cornell_with_fine_floor(48);
+  Mesh& floor = scene.meshes[0];
+  Mesh split = floor;
+  split.positions.clear();
+  split.normals.clear();
+  split.indices.clear();
+  for (uint32_t i : floor.indices) {
+    split.indices.push_back(static_cast<uint32_t>(split.positions.size()));
+    split.positions.push_back(floor.positions[i]);
+    split.normals.push_back(floor.normals[i]);
+  }
+  const ClusteredIndices ordered = clustered_indices(split, kClusterTriangles);
+  ASSERT_EQ(ordered.vertices.size(), split.indices.size());
+  ASSERT_EQ(ordered.positions.size(), split.indices.size());
+  for (size_t i = 0; i < ordered.vertices.size(); ++i)
+    ASSERT_EQ(split.positions[ordered.positions[i]], split.positions[ordered.vertices[i]])
+        << "corner " << i << " welded to another position";
+  const size_t run = 3 * size_t(kClusterTriangles);
+  double worst = 0.0, split_best = 3.0;
+  for (size_t first = 0; first < ordered.positions.size(); first += run) {
+    const size_t count = std::min(run, ordered.positions.size() - first);
+    worst =
+        std::max(worst, double(meshopt_analyzeVertexCache(ordered.positions.data() + first, count,
+                                                          split.positions.size(), 16, 0, 0)
+                                   .acmr));
+    split_best = std::min(split_best,
+                          double(meshopt_analyzeVertexCache(ordered.vertices.data() + first, count,
+                                                            split.positions.size(), 16, 0, 0)
+                                     .acmr));
+  }
+  std::printf("welded: worst cluster %.3f vertices a triangle; split: best %.3f\n", worst,
+              split_best);
+  EXPECT_LT(worst, 1.0);
+  EXPECT_EQ(split_best, 3.0);
 }
 
 TEST_F(SceneClusters, CullingKeepsEveryClusterTheViewCanSeeAndSortsFrontToBack) {

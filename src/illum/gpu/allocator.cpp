@@ -40,10 +40,14 @@ bool Allocator::is_host_coherent(uint32_t memory_type) const {
   return properties_.memoryTypes[memory_type].propertyFlags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
 }
 
-VkDeviceMemory Allocator::allocate_memory(uint32_t type, VkDeviceSize size, void** mapped) {
+VkDeviceMemory Allocator::allocate_memory(uint32_t type, VkDeviceSize size, void** mapped,
+                                          VkImage dedicated_image) {
   VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   info.allocationSize = size;
   info.memoryTypeIndex = type;
+  VkMemoryDedicatedAllocateInfo dedicated{VK_STRUCTURE_TYPE_MEMORY_DEDICATED_ALLOCATE_INFO};
+  dedicated.image = dedicated_image;
+  if (dedicated_image != VK_NULL_HANDLE) info.pNext = &dedicated;
   VkDeviceMemory memory = VK_NULL_HANDLE;
   const VkResult r = vkAllocateMemory(device_, &info, nullptr, &memory);
   if (r != VK_SUCCESS)
@@ -79,13 +83,14 @@ Allocation Allocator::allocate(const VkMemoryRequirements& req, VkMemoryProperty
   return allocate_type(req, static_cast<uint32_t>(type));
 }
 
-Allocation Allocator::allocate_type(const VkMemoryRequirements& req, uint32_t type) {
+Allocation Allocator::allocate_type(const VkMemoryRequirements& req, uint32_t type,
+                                    VkImage dedicated_image) {
   std::lock_guard lock(mutex_);
   Allocation a;
   a.memory_type = static_cast<uint32_t>(type);
   a.size = req.size;
-  if (req.size > kBlockSize / 4) {
-    a.memory = allocate_memory(a.memory_type, req.size, &a.mapped);
+  if (req.size > kBlockSize / 4 || dedicated_image != VK_NULL_HANDLE) {
+    a.memory = allocate_memory(a.memory_type, req.size, &a.mapped, dedicated_image);
     ++dedicated_;
     dedicated_bytes_ += req.size;
     used_bytes_ += req.size;
@@ -118,7 +123,7 @@ Allocation Allocator::allocate_type(const VkMemoryRequirements& req, uint32_t ty
     if (blocks_[i].memory && try_block(static_cast<int>(i))) return a;
   Block block;
   block.memory_type = a.memory_type;
-  block.memory = allocate_memory(a.memory_type, kBlockSize, &block.mapped);
+  block.memory = allocate_memory(a.memory_type, kBlockSize, &block.mapped, VK_NULL_HANDLE);
   block.free[0] = kBlockSize;
   // Reuse a released slot so block indices held by live allocations stay valid.
   auto slot =

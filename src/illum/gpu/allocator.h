@@ -1,6 +1,8 @@
 // Device-memory sub-allocation (VMA is not packaged). Per memory type, memory comes in
 // blocks of kBlockSize, each managed by a sorted free list with first fit and merging of
-// neighbours on free; requests larger than a quarter block get a dedicated allocation.
+// neighbours on free; requests larger than a quarter block, and images the driver prefers
+// to have memory of their own (VkMemoryDedicatedRequirements: render targets, where that
+// can keep them compressed), get a dedicated allocation.
 // Host-visible blocks stay persistently mapped.
 #pragma once
 
@@ -54,8 +56,10 @@ class Allocator {
   // illum::Error when no memory type fits or the device is out of memory.
   Allocation allocate(const VkMemoryRequirements& requirements, VkMemoryPropertyFlags required,
                       VkMemoryPropertyFlags preferred = 0);
-  // Allocates from memory type `type` (image_memory_type's choice).
-  Allocation allocate_type(const VkMemoryRequirements& requirements, uint32_t type);
+  // Allocates from memory type `type` (image_memory_type's choice); memory of its own, bound
+  // to `dedicated_image` alone, when that is given (the driver prefers it for the image).
+  Allocation allocate_type(const VkMemoryRequirements& requirements, uint32_t type,
+                           VkImage dedicated_image = VK_NULL_HANDLE);
   void free(Allocation& allocation);
 
   AllocatorStats stats() const;
@@ -73,7 +77,8 @@ class Allocator {
     std::map<VkDeviceSize, VkDeviceSize> free;  // offset → size, non-adjacent ranges
   };
   int find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags flags) const;
-  VkDeviceMemory allocate_memory(uint32_t type, VkDeviceSize size, void** mapped);
+  VkDeviceMemory allocate_memory(uint32_t type, VkDeviceSize size, void** mapped,
+                                 VkImage dedicated_image);
 
   VkPhysicalDevice physical_;
   VkDevice device_;

@@ -98,13 +98,19 @@ GpuImage::GpuImage(Context& context, const ImageDesc& desc) : context_(&context)
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   ILLUM_VK(vkCreateImage(context.device(), &info, nullptr, &image_));
   try {
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(context.device(), image_, &req);
+    VkImageMemoryRequirementsInfo2 which{VK_STRUCTURE_TYPE_IMAGE_MEMORY_REQUIREMENTS_INFO_2};
+    which.image = image_;
+    VkMemoryDedicatedRequirements dedicated{VK_STRUCTURE_TYPE_MEMORY_DEDICATED_REQUIREMENTS};
+    VkMemoryRequirements2 req2{VK_STRUCTURE_TYPE_MEMORY_REQUIREMENTS_2};
+    req2.pNext = &dedicated;
+    vkGetImageMemoryRequirements2(context.device(), &which, &req2);
+    const VkMemoryRequirements& req = req2.memoryRequirements;
+    const bool own = dedicated.prefersDedicatedAllocation || dedicated.requiresDedicatedAllocation;
     const uint32_t type = image_memory_type(
         context.allocator().properties(), req.memoryTypeBits, context.is_software(),
         fmt::format("image {}x{} {}", desc.width, desc.height, format_name(desc.format)),
         context.device_name());
-    allocation_ = context.allocator().allocate_type(req, type);
+    allocation_ = context.allocator().allocate_type(req, type, own ? image_ : VK_NULL_HANDLE);
     ILLUM_VK(vkBindImageMemory(context.device(), image_, allocation_.memory, allocation_.offset));
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = image_;

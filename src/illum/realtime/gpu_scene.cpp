@@ -9,31 +9,53 @@
 
 namespace illum::realtime {
 
-// One cluster's triangles (`count` indices at `indices`) reordered in place, the set kept,
-// for the GPU's reuse of transformed vertices (meshoptimizer's vertex cache order). On the
-// H200 a vertex shader invocation costs about as much as setting up a triangle, and the
-// cluster split leaves triangles in no useful order: Sibenik 1080p, the cascades took
-// 0.68 → 0.54 ms with this order (bench/results/h200-2026-12-02-vertex). Ordering for
-// overdraw on top (meshopt_optimizeOverdraw) was measured too and was 0.5–1.5 % slower.
-// The cluster's vertices are numbered locally so the work follows the cluster, not the mesh.
-static void order_within_cluster(uint32_t* indices, size_t count) {
+// One cluster's triangles (`count` corners at `vertices`, the same welded at `positions`)
+// reordered in place, the set kept, for the GPU's reuse of transformed vertices
+// (meshoptimizer's vertex cache order of the welded corners; the full ones follow the same
+// permutation). On the H200 a vertex shader invocation costs about as much as setting up a
+// triangle, and the cluster split leaves triangles in no useful order: Sibenik 1080p, the
+// cascades took 0.68 → 0.54 ms with this order on the full corners
+// (bench/results/h200-2026-12-02-vertex). Ordering for overdraw on top
+// (meshopt_optimizeOverdraw) was measured too and was 0.5–1.5 % slower. The cluster's
+// vertices are numbered locally so the work follows the cluster, not the mesh.
+static void order_within_cluster(uint32_t* vertices, uint32_t* positions, size_t count) {
   std::unordered_map<uint32_t, uint32_t> local_of;
   std::vector<uint32_t> global, local(count);
   for (size_t i = 0; i < count; ++i) {
-    const auto [it, added] = local_of.try_emplace(indices[i], static_cast<uint32_t>(global.size()));
-    if (added) global.push_back(indices[i]);
+    const auto [it, added] =
+        local_of.try_emplace(positions[i], static_cast<uint32_t>(global.size()));
+    if (added) global.push_back(positions[i]);
     local[i] = it->second;
   }
   std::vector<uint32_t> ordered(count);
   meshopt_optimizeVertexCache(ordered.data(), local.data(), count, global.size());
-  for (size_t i = 0; i < count; ++i) indices[i] = global[ordered[i]];
+  // meshoptimizer moves whole triangles with their corners in order: each output triangle is
+  // a source triangle with the same three local corners (duplicates taken in turn).
+  auto key = [](const uint32_t* t) {
+    return (uint64_t(t[0]) << 42) | (uint64_t(t[1]) << 21) | uint64_t(t[2]);
+  };
+  std::unordered_map<uint64_t, std::vector<uint32_t>> sources;
+  for (size_t t = count / 3; t-- > 0;) sources[key(&local[3 * t])].push_back(uint32_t(t));
+  const std::vector<uint32_t> full(vertices, vertices + count),
+      welded(positions, positions + count);
+  for (size_t t = 0; t < count / 3; ++t) {
+    auto it = sources.find(key(&ordered[3 * t]));
+    ILLUM_CHECK(it != sources.end() && !it->second.empty(),
+                "the vertex cache order turned or lost a triangle");
+    const uint32_t from = it->second.back();
+    it->second.pop_back();
+    for (int k = 0; k < 3; ++k) {
+      vertices[3 * t + k] = full[3 * from + k];
+      positions[3 * t + k] = welded[3 * from + k];
+    }
+  }
 }
 
 // The mesh's triangles reordered so that every run of `cluster` of them (the last run may be
 // shorter) is spatially compact: centroids split recursively at the median of their longest
 // axis, each split on a multiple of `cluster`. (A Morton order was tried first: its runs jump
 // across cell boundaries, and Sibenik's clusters came out as wide as the nave.)
-std::vector<uint32_t> clustered_indices(const Mesh& mesh, uint32_t cluster) {
+ClusteredIndices clustered_indices(const Mesh& mesh, uint32_t cluster) {
   const size_t triangles = mesh.indices.size() / 3;
   std::vector<vec3> centroid(triangles);
   for (size_t t = 0; t < triangles; ++t)
@@ -63,18 +85,28 @@ std::vector<uint32_t> clustered_indices(const Mesh& mesh, uint32_t cluster) {
     todo.push_back({begin, mid});
     todo.push_back({mid, end});
   }
-  std::vector<uint32_t> out;
-  out.reserve(3 * triangles);
+  std::vector<uint32_t> welded(mesh.indices.size());
+  if (!welded.empty())
+    meshopt_generateShadowIndexBuffer(welded.data(), mesh.indices.data(), mesh.indices.size(),
+                                      mesh.positions.data(), mesh.positions.size(), sizeof(vec3),
+                                      sizeof(vec3));
+  ClusteredIndices out;
+  out.vertices.reserve(3 * triangles);
+  out.positions.reserve(3 * triangles);
   for (uint32_t t : order)
-    for (int k = 0; k < 3; ++k) out.push_back(mesh.indices[3 * t + k]);
-  for (size_t first = 0; first < out.size(); first += 3 * size_t(cluster))
-    order_within_cluster(out.data() + first, std::min(out.size() - first, 3 * size_t(cluster)));
+    for (int k = 0; k < 3; ++k) {
+      out.vertices.push_back(mesh.indices[3 * t + k]);
+      out.positions.push_back(welded[3 * t + k]);
+    }
+  for (size_t first = 0; first < out.vertices.size(); first += 3 * size_t(cluster))
+    order_within_cluster(out.vertices.data() + first, out.positions.data() + first,
+                         std::min(out.vertices.size() - first, 3 * size_t(cluster)));
   return out;
 }
 
 GpuScene::GpuScene(gpu::Context& context, const Scene& scene) : scene_(scene) {
   std::vector<Vertex> vertices;
-  std::vector<uint32_t> indices;
+  std::vector<uint32_t> indices, position_indices;
   for (const Mesh& mesh : scene.meshes) {
     MeshRange range;
     range.first_index = static_cast<uint32_t>(indices.size());
@@ -89,8 +121,10 @@ GpuScene::GpuScene(gpu::Context& context, const Scene& scene) : scene_(scene) {
       v.uv1 = i < mesh.uv1.size() ? mesh.uv1[i] : vec2(0.0f);
       vertices.push_back(v);
     }
-    const std::vector<uint32_t> ordered = clustered_indices(mesh, kClusterTriangles);
-    indices.insert(indices.end(), ordered.begin(), ordered.end());
+    const ClusteredIndices ordered = clustered_indices(mesh, kClusterTriangles);
+    indices.insert(indices.end(), ordered.vertices.begin(), ordered.vertices.end());
+    position_indices.insert(position_indices.end(), ordered.positions.begin(),
+                            ordered.positions.end());
     meshes_.push_back(range);
   }
   // Meshes without normals get flat per-vertex normals from their first triangle use, so a
@@ -136,6 +170,7 @@ GpuScene::GpuScene(gpu::Context& context, const Scene& scene) : scene_(scene) {
   }
   if (vertices.empty()) vertices.push_back(Vertex{});
   if (indices.empty()) indices.push_back(0);
+  if (position_indices.empty()) position_indices.push_back(0);
   const VkBufferUsageFlags vb =
       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   vertices_ =
@@ -147,6 +182,9 @@ GpuScene::GpuScene(gpu::Context& context, const Scene& scene) : scene_(scene) {
   indices_ = gpu::make_device_buffer(
       context, indices.data(), indices.size() * sizeof(uint32_t),
       VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  position_indices_ = gpu::make_device_buffer(context, position_indices.data(),
+                                              position_indices.size() * sizeof(uint32_t),
+                                              VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
 
   std::vector<GpuMaterial> materials;
   for (const Material& m : scene.materials) {

@@ -31,9 +31,18 @@ struct DrawItem {
 inline constexpr uint32_t kClusterTriangles = 256;
 
 // The mesh's index list reordered for clustering: each run of `cluster` triangles (the last
-// may be shorter) is a spatially compact piece of the surface, its triangles in an order for
-// the GPU's vertex reuse; every triangle kept with its winding.
-std::vector<uint32_t> clustered_indices(const Mesh& mesh, uint32_t cluster);
+// may be shorter) is a spatially compact piece of the surface; every triangle kept with its
+// winding. Beside it the same triangles in the same order on welded positions: each index
+// replaced by the first vertex with a bit-identical position — what depth-like passes, which
+// read positions only, draw, so a corner split for its normal or texture coordinates is
+// transformed once (meshopt_generateShadowIndexBuffer). The order within a cluster is for the
+// GPU's reuse of the welded vertices (those passes outnumber the shading passes: every shadow
+// view, the pre-pass, the visibility raster).
+struct ClusteredIndices {
+  std::vector<uint32_t> vertices;   // into the mesh's vertices
+  std::vector<uint32_t> positions;  // the same corners, welded
+};
+ClusteredIndices clustered_indices(const Mesh& mesh, uint32_t cluster);
 
 // A spatially compact run of one draw's triangles (the mesh's triangles are stored as
 // clustered_indices orders them, so a run of the index buffer is a compact piece of the surface):
@@ -56,6 +65,9 @@ class GpuScene {
   // depth-like passes, which would otherwise fetch 56-byte vertices for 12 bytes of each.
   const gpu::Buffer& positions() const { return positions_; }
   const gpu::Buffer& indices() const { return indices_; }
+  // The same triangles on welded positions (ClusteredIndices::positions), with the same
+  // offsets: the index buffer of depth-like passes, which bind positions() as their stream.
+  const gpu::Buffer& position_indices() const { return position_indices_; }
   const gpu::Buffer& materials() const { return materials_; }
   const std::vector<MeshRange>& meshes() const { return meshes_; }
   const std::vector<DrawItem>& draws() const { return draws_; }
@@ -67,7 +79,7 @@ class GpuScene {
 
  private:
   const Scene& scene_;
-  gpu::Buffer vertices_, positions_, indices_, materials_;
+  gpu::Buffer vertices_, positions_, indices_, position_indices_, materials_;
   std::vector<MeshRange> meshes_;
   std::vector<DrawItem> draws_;
   std::vector<Cluster> clusters_;

@@ -120,21 +120,23 @@ OcclusionCuller::View& OcclusionCuller::begin(VkCommandBuffer cmd, const std::st
 }
 
 void OcclusionCuller::cull(PassContext& pass, View& v, const std::string& depth_resource,
-                           VkExtent2D extent, const mat4& clip, const std::vector<uint32_t>& order,
-                           const std::string& scope) {
+                           uint32_t depth_layer, VkExtent2D extent, const mat4& clip,
+                           const std::vector<uint32_t>& order, const std::string& scope) {
   const VkCommandBuffer cmd = pass.cmd();
   PassContext::Aside aside = pass.aside(scope);
-  const gpu::GpuImage& depth = resources_.image(depth_resource);
+  const gpu::GpuImage& image = resources_.image(depth_resource);
+  // A layer of a depth array (the cascades) is read through its own 2-D view.
+  const VkImageView depth = image.desc().layers > 1 ? image.layer_view(depth_layer) : image.view();
   const bool resized = !v.hzb || v.extent.width != extent.width || v.extent.height != extent.height;
-  if (resized || v.bound_depth != depth.view()) {
+  if (resized || v.bound_depth != depth) {
     if (resized)
       v.hzb = gpu::Buffer(context_, hzb_floats(extent) * sizeof(float),
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kDevice);
     v.extent = extent;
-    v.bound_depth = depth.view();
+    v.bound_depth = depth;
     const auto ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu::DescriptorWriter()
-        .image(v.set, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, depth.view(), sampler_.handle(),
+        .image(v.set, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, depth, sampler_.handle(),
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
         .buffer(v.set, 1, ssbo, v.hzb.handle())
         .buffer(v.set, 2, ssbo, cluster_bounds_.handle())

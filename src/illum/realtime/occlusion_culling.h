@@ -68,11 +68,13 @@ class OcclusionCuller {
   // flag set: the first frame draws everything), the previous cull's "visible now" becoming
   // this frame's first-half flags.
   View& begin(VkCommandBuffer cmd, const std::string& key);
-  // Between the halves, outside any rendering: the HZB of `depth_resource` (`extent`), the
-  // test of the clusters in `order` against it with the view's clip transform, and the counts
-  // of what the two halves draw. Its own timer scope `scope` beside the pass's.
-  void cull(PassContext& pass, View& view, const std::string& depth_resource, VkExtent2D extent,
-            const mat4& clip, const std::vector<uint32_t>& order, const std::string& scope);
+  // Between the halves, outside any rendering: the HZB of `depth_resource` (`extent`; its
+  // layer `depth_layer` when it has several), the test of the clusters in `order` against it
+  // with the view's clip transform, and the counts of what the two halves draw. Its own timer
+  // scope `scope` beside the pass's.
+  void cull(PassContext& pass, View& view, const std::string& depth_resource, uint32_t depth_layer,
+            VkExtent2D extent, const mat4& clip, const std::vector<uint32_t>& order,
+            const std::string& scope);
   // The view culled at `frame`, if any (passes that draw only what is visible now).
   const View* culled(const std::string& key, uint64_t frame) const;
 

@@ -157,12 +157,15 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.handle());
   bind_shading_sets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, globals_, sets);
   VkDeviceSize offset = 0;
-  // Depth-like passes read positions only, from their packed stream; and no fragment stage
-  // of theirs reads a material, so they bind none.
+  // Depth-like passes read positions only, from their packed stream with the index buffer of
+  // welded positions (the same triangles in the same order); and no fragment stage of theirs
+  // reads a material, so they bind none.
   const bool position_only = pipeline.vertex_stride() == kPositionStride;
   VkBuffer vb = position_only ? scene_.positions().handle() : scene_.vertices().handle();
   vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
-  vkCmdBindIndexBuffer(cmd, scene_.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+  vkCmdBindIndexBuffer(
+      cmd, position_only ? scene_.position_indices().handle() : scene_.indices().handle(), 0,
+      VK_INDEX_TYPE_UINT32);
   PushConstants push{};
   push.view_index = view.view_index;
   push.light_index = view.light_index;
@@ -185,7 +188,7 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
     if (pushed_draw != static_cast<int>(first.draw)) {
       pushed_draw = static_cast<int>(first.draw);
       if (view.per_draw) push.view_index = static_cast<int>(first.draw);
-      push.model = d.transform;
+      push.model = view.clip_from_world ? *view.clip_from_world * d.transform : d.transform;
       push.material = globals_.material_index(d.material);
       const VkDescriptorSet material = globals_.material_set(push.material);
       if (material != bound && !position_only) {
@@ -287,8 +290,8 @@ void SceneDrawer::render_counted(PassContext& pass, const DrawTargets& targets,
   const Drawn drawn = draw_clusters(cmd, variant, layout, sets, view, order, halves[0]);
   if (two_phase) {
     end(cmd);
-    occlusion_->cull(pass, *culled, targets.depth_resource, targets.extent, *view.cull, order,
-                     pass.label() + ".occlusion");
+    occlusion_->cull(pass, *culled, targets.depth_resource, targets.depth_layer, targets.extent,
+                     *view.cull, order, pass.label() + ".occlusion");
     begin(cmd, loaded(targets));
     draw_clusters(cmd, variant, layout, sets, view, order, halves[1]);
   }

@@ -47,6 +47,7 @@ struct DrawTargets {
   // The depth's frame-graph resource: occlusion culling samples it between the pass's halves
   // (the pass declares it kSampled in kComputeShader besides its attachment use).
   std::string depth_resource;
+  uint32_t depth_layer = 0;  // the layer `depth` views, when the resource has several
 };
 
 // What a counting frame draws a scene pass with besides the pass's own pipeline:
@@ -92,6 +93,9 @@ struct SceneView {
   bool per_draw = true;
   std::optional<mat4> cull;
   bool cull_depth = true;
+  // When set, each draw pushes clip_from_world × its model matrix as push.model: the vertex
+  // shader of a depth-only view (shadow_depth.vert) then runs one transform, not two.
+  std::optional<mat4> clip_from_world;
   bool front_to_back = false;
   // Occlusion culling (OcclusionCuller, when switched on): kTwoPhase for a pass that writes
   // the depth from cleared (pre-pass, visibility raster, shadow views), kVisibleNow for one

@@ -22,6 +22,8 @@ namespace illum::realtime {
 namespace {
 
 // Shadow maps hold distance/far and, for VSM only, its square: PCF needs half the bytes.
+// PCF's cascades are the depth buffer itself (an orthographic depth is the distance along
+// the light over the view's depth range): no colour target, no fragment shader.
 constexpr VkFormat kVsmFormat = VK_FORMAT_R32G32_SFLOAT;
 constexpr VkFormat kPcfFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kShadowDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -65,7 +67,13 @@ class ShadowMaps final : public ShadowMethod {
       radial_count_ = CountingPipelines(ctx.gpu, layout, sh);
     }
     if (cascade_light_ >= 0) {
-      sh.fragment_shader = "shadow_dir.frag";
+      if (vsm_) {
+        sh.fragment_shader = "shadow_dir.frag";
+      } else {
+        sh.vertex_shader = "shadow_depth.vert";
+        sh.fragment_shader = "";
+        sh.color_formats = {};
+      }
       sh.depth_clamp = ctx.gpu.depth_clamp();  // casters behind the cascade's near plane
       ortho_ = gpu::Pipeline(ctx.gpu, layout, sh);
       ortho_count_ = CountingPipelines(ctx.gpu, layout, sh);
@@ -92,11 +100,11 @@ class ShadowMaps final : public ShadowMethod {
   }
 
   void declare(FrameGraph& graph) override {
-    auto map = [&](const char* name, uint32_t layers, bool cube, bool array) {
+    auto map = [&](const char* name, uint32_t layers, bool cube, bool array, VkFormat f) {
       ResourceDesc r;
       r.name = name;
       r.width = r.height = resolution_;
-      r.format = format();
+      r.format = f;
       r.layers = layers;
       r.cube = r.cube_array = cube;
       r.array = array;
@@ -104,25 +112,27 @@ class ShadowMaps final : public ShadowMethod {
     };
     const bool radial = !cube_lights_.empty() || !spot_lights_.empty();
     if (!radial && cascade_light_ < 0) return;
-    ResourceDesc depth;
-    depth.name = "shadow.depth";
-    depth.width = depth.height = resolution_;
-    depth.format = kShadowDepthFormat;
-    graph.add_resource(depth);
+    if (radial || vsm_) {
+      ResourceDesc depth;
+      depth.name = kViewDepth;
+      depth.width = depth.height = resolution_;
+      depth.format = kShadowDepthFormat;
+      graph.add_resource(depth);
+    }
     if (cascade_light_ >= 0) {
-      map("shadow.cascades", kCascades, false, false);
+      map(kCascadeMaps, kCascades, false, false, cascade_format());
       PassDesc p;
       p.name = "cascades";
       p.technique = name();
       p.phase = Phase::kShadows;
       // Occlusion culling samples the depth between each view's two halves.
-      p.accesses = {{"shadow.cascades", kColorAttachment},
-                    {"shadow.depth", kDepthAttachment},
-                    {"shadow.depth", kSampled, kComputeShader}};
+      const char* depth = vsm_ ? kViewDepth : kCascadeMaps;
+      p.accesses = {{depth, kDepthAttachment}, {depth, kSampled, kComputeShader}};
+      if (vsm_) p.accesses.push_back({kCascadeMaps, kColorAttachment});
       p.nested_scopes = 2 * kCascades;
       p.record = [this](PassContext& pass) {
         for (int k = 0; k < kCascades; ++k)
-          render_view(pass, ortho_, ortho_count_, "shadow.cascades", static_cast<uint32_t>(k),
+          render_view(pass, ortho_, ortho_count_, kCascadeMaps, static_cast<uint32_t>(k),
                       cascade_view_offset() + k, cascade_light_);
       };
       graph.add_pass(std::move(p));
@@ -133,15 +143,15 @@ class ShadowMaps final : public ShadowMethod {
     p.technique = name();
     p.phase = Phase::kShadows;
     if (!cube_lights_.empty()) {
-      map("shadow.cubes", static_cast<uint32_t>(6 * cube_lights_.size()), true, false);
+      map("shadow.cubes", static_cast<uint32_t>(6 * cube_lights_.size()), true, false, format());
       p.accesses.push_back({"shadow.cubes", kColorAttachment});
     }
     if (!spot_lights_.empty()) {
-      map("shadow.spots", static_cast<uint32_t>(spot_lights_.size()), false, true);
+      map("shadow.spots", static_cast<uint32_t>(spot_lights_.size()), false, true, format());
       p.accesses.push_back({"shadow.spots", kColorAttachment});
     }
-    p.accesses.push_back({"shadow.depth", kDepthAttachment});
-    p.accesses.push_back({"shadow.depth", kSampled, kComputeShader});
+    p.accesses.push_back({kViewDepth, kDepthAttachment});
+    p.accesses.push_back({kViewDepth, kSampled, kComputeShader});
     // The maps depend on the lights and the geometry only (bias, PCF and τ are applied
     // when they are looked up).
     const Changes changes = kLightsChanged | kGeometryChanged;
@@ -176,11 +186,16 @@ class ShadowMaps final : public ShadowMethod {
     auto view = [&](const char* name, const gpu::GpuImage& dummy) {
       return r.has(name) ? r.image(name).view() : dummy.view();
     };
+    // The frame graph leaves a sampled depth image read-only as a depth attachment.
+    const VkImageLayout cascades_layout =
+        r.has(kCascadeMaps) && is_depth_format(cascade_format())
+            ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL
+            : ro;
     gpu::DescriptorWriter()
         .buffer(set_, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
         .buffer(set_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, views_.handle())
         .image(set_, 2, cis, view("shadow.cubes", g.dummy_cube()), sampler, ro)
-        .image(set_, 3, cis, view("shadow.cascades", g.dummy_array()), sampler, ro)
+        .image(set_, 3, cis, view(kCascadeMaps, g.dummy_array()), sampler, cascades_layout)
         .image(set_, 4, cis, view("shadow.spots", g.dummy_array()), sampler, ro)
         .buffer(set_, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadow_lights_.handle())
         .commit(ctx_.gpu.device());
@@ -241,7 +256,11 @@ class ShadowMaps final : public ShadowMethod {
   }
 
  private:
+  static constexpr const char* kCascadeMaps = "shadow.cascades";
+  // The depth buffer the cube faces and spot maps (and VSM's cascades) are rendered with.
+  static constexpr const char* kViewDepth = "shadow.depth";
   VkFormat format() const { return vsm_ ? kVsmFormat : kPcfFormat; }
+  VkFormat cascade_format() const { return vsm_ ? kVsmFormat : kShadowDepthFormat; }
   int cascade_view_offset() const {
     return static_cast<int>(6 * cube_lights_.size() + spot_lights_.size());
   }
@@ -252,32 +271,44 @@ class ShadowMaps final : public ShadowMethod {
   }
 
   // One view of the scene into one layer of `target` (shadow_cube: radial distance / far,
-  // shadow_dir: orthographic depth; VSM: also its square).
+  // shadow_dir: orthographic depth and its square for VSM; PCF's cascades: the depth layer).
   void render_view(PassContext& pass, const gpu::Pipeline& pipeline,
                    const CountingPipelines& counter, const char* target, uint32_t layer, int view,
                    int light) {
-    pass.use("shadow.depth", kDepthAttachment);  // the last view's depth test is done with it
+    const bool depth_map = is_depth_format(ctx_.resources.image(target).desc().format);
     DrawTargets t;
-    t.colors = {{ctx_.resources.image(target).layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}}}};
-    t.depth = ctx_.resources.image("shadow.depth").view();
-    t.depth_resource = "shadow.depth";
-    t.store_depth = false;
+    if (depth_map) {
+      t.depth = ctx_.resources.image(target).layer_view(layer);
+      t.depth_resource = target;
+      t.depth_layer = layer;
+    } else {
+      t.colors = {
+          {ctx_.resources.image(target).layer_view(layer), true, {{1.0f, 1.0f, 0.0f, 0.0f}}}};
+      t.depth = ctx_.resources.image(kViewDepth).view();
+      t.depth_resource = kViewDepth;
+      t.store_depth = false;
+    }
+    // The last view's depth test (or its occlusion culling) is done with it.
+    pass.use(t.depth_resource, kDepthAttachment);
     t.extent = {resolution_, resolution_};
     SceneView v;
     v.view_index = view;
     v.light_index = light;
     v.per_draw = false;
     v.cull = view_matrices_.at(static_cast<size_t>(view));
+    if (depth_map) v.clip_from_world = v.cull;
     v.cull_depth = &pipeline != &ortho_;  // the cascades clamp casters behind their near plane
     v.front_to_back = true;
     v.occlusion = SceneView::Occlusion::kTwoPhase;
     v.occlusion_key = "shadow." + std::to_string(view);  // every view keeps its own history
     using D = gpu::RasterFill::Depth;
+    std::vector<VkFormat> colors;
+    if (!depth_map) colors = {format()};
     ctx_.drawer.render_counted(
         pass, t, pipeline, counter, ctx_.globals.default_layout(),
         {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kBakedSet)}, v,
-        {resolution_, resolution_, {format()}, kShadowDepthFormat, D::kWrite},
-        {resolution_, resolution_, {format()}, kShadowDepthFormat, D::kReject});
+        {resolution_, resolution_, colors, kShadowDepthFormat, D::kWrite},
+        {resolution_, resolution_, colors, kShadowDepthFormat, D::kReject});
   }
 
   // Cascaded shadow maps (S001 §4.2.1): the view frustum split between uniform and
