@@ -30,12 +30,12 @@ class Forward final : public FramePipeline {
     fwd.depth_format = ctx.depth_format;
     fwd.stencil_format = ctx.depth_format;
     // Depth pre-pass: forward.vert's transform on the packed positions (depth_only.vert, so
-    // depths repeat exactly), no fragment shader; the shading pass then runs each pixel's
+    // depths repeat exactly), an empty fragment stage; the shading pass then runs each pixel's
     // fragment shader once, where Sibenik's nave would otherwise shade every overlapping layer.
     gpu::GraphicsPipelineDesc pre = fwd;
     pre.vertex_shader = "depth_only.vert";  // forward.vert's transform, positions only
     pre.vertex_input = mesh_vertex_input(true);
-    pre.fragment_shader = "";
+    pre.fragment_shader = "depth_only.frag";  // empty: see the shader
     pre.color_formats = {};  // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);

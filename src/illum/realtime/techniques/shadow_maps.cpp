@@ -71,7 +71,7 @@ class ShadowMaps final : public ShadowMethod {
         sh.fragment_shader = "shadow_dir.frag";
       } else {
         sh.vertex_shader = "shadow_depth.vert";
-        sh.fragment_shader = "";
+        sh.fragment_shader = "depth_only.frag";  // empty: see the shader
         sh.color_formats = {};
       }
       sh.depth_clamp = ctx.gpu.depth_clamp();  // casters behind the cascade's near plane
