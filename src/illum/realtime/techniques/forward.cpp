@@ -36,7 +36,7 @@ class Forward final : public FramePipeline {
     pre.vertex_shader = "depth_only.vert";  // forward.vert's transform, positions only
     pre.vertex_input = mesh_vertex_input(true);
     pre.fragment_shader = "depth_only.frag";  // empty: see the shader
-    pre.color_formats = {};  // a rendering of its own: depth and stencil only
+    pre.color_formats = {};                   // a rendering of its own: depth and stencil only
     pre.color_write = false;
     prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
     prepass_count_ = CountingPipelines(ctx.gpu, layout, pre);
