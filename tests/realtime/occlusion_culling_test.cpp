@@ -31,13 +31,6 @@ RenderSettings settings(const std::string& pipeline, int width, int height, bool
   return o;
 }
 
-// Whether two HDR images hold the same bits (the culled frame draws every fragment the
-// unculled one keeps: not "close", identical).
-bool identical(const Image& a, const Image& b) {
-  return a.width() == b.width() && a.height() == b.height() &&
-         std::memcmp(a.data().data(), b.data().data(), a.data().size() * sizeof(float)) == 0;
-}
-
 Camera look(vec3 position, vec3 at, float fov_degrees) {
   Camera c;
   c.position = position;
@@ -84,7 +77,8 @@ std::vector<std::vector<gpu::PassTime>> expect_identical(const Scene& scene,
     culled.render(cameras[f]);
     plain.render(cameras[f]);
     times.push_back(culled.pass_times());
-    EXPECT_TRUE(identical(culled.hdr(), plain.hdr()))
+    // The culled frame draws every fragment the unculled one keeps: identical bits.
+    EXPECT_TRUE(test::identical(culled.hdr(), plain.hdr()))
         << scene.name << " " << pipeline << ": frame " << f << " differs from the unculled one";
   }
   return times;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <random>
 
@@ -13,6 +14,7 @@
 #include "illum/realtime/gpu_scene.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/scene_draw.h"
+#include "illum/scene/load.h"
 #include "test_scene.h"
 
 namespace illum::realtime {
@@ -152,6 +154,58 @@ TEST(SceneClustersOrder, DepthPassesDrawWeldedPositionsInTheSameOrder) {
               split_best);
   EXPECT_LT(worst, 1.0);
   EXPECT_EQ(split_best, 3.0);
+}
+
+// The cascades draw only the clusters that can cast into the texels their lookups read
+// (SceneView::receivers, map.caster_culling): Sibenik from its camera, a step forward and
+// turned round — every frame's HDR image holds the same bits as without the culling, with PCF
+// and VSM at their defaults (where the culling drops clusters) and with coarse 32² cascades and
+// an 8-texel PCF radius, which make the lookup's reach wide enough to matter (with no margin
+// for it, that image changes).
+TEST_F(SceneClusters, CascadeCasterCullingLeavesEveryPixelAsItWas) {
+  const Scene scene = load_scene("sibenik");
+  const Camera start = *scene.camera;
+  Camera ahead = start, back = start;
+  const vec3 forward = glm::normalize(start.look_at - start.position);
+  ahead.position += 2.0f * forward;
+  ahead.look_at += 2.0f * forward;
+  back.look_at = start.position - forward;
+  struct Case {
+    std::string method;
+    bool coarse;
+  };
+  for (const Case& k : {Case{"map", false}, Case{"vsm", false}, Case{"map", true}}) {
+    auto renderer = [&](bool culling) {
+      RenderSettings o;
+      o.width = 96;
+      o.height = 64;
+      o.pipeline = "deferred";
+      o.shadows = k.method;
+      o.set(k.method + ".caster_culling", culling);
+      if (k.coarse) {
+        o.set("map.resolution", 32);
+        o.set("map.pcf_radius", 8.0f);
+      }
+      return std::make_unique<Renderer>(context(), scene, o);
+    };
+    std::unique_ptr<Renderer> culled = renderer(true), plain = renderer(false);
+    double drawn = 0.0, all = 0.0;
+    for (const Camera& c : {start, ahead, back}) {
+      culled->render(c);
+      plain->render(c);
+      EXPECT_TRUE(test::identical(culled->hdr(), plain->hdr()))
+          << k.method << (k.coarse ? " (coarse)" : "") << ": a pixel moved";
+      for (const gpu::PassTime& t : culled->pass_times())
+        if (t.name == "cascades" && t.depth == 0) drawn += t.triangles;
+      for (const gpu::PassTime& t : plain->pass_times())
+        if (t.name == "cascades" && t.depth == 0) all += t.triangles;
+    }
+    std::printf("%s%s: cascades drew %.0f of %.0f triangles over 3 frames\n", k.method.c_str(),
+                k.coarse ? " (coarse)" : "", drawn, all);
+    if (!k.coarse) {
+      EXPECT_LT(drawn, 0.95 * all) << "the culling dropped nothing";
+    }
+  }
 }
 
 TEST_F(SceneClusters, CullingKeepsEveryClusterTheViewCanSeeAndSortsFrontToBack) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -40,6 +41,13 @@ class ValidatedVulkanTest : public ::testing::Test {
  private:
   size_t before_ = 0;
 };
+
+// Whether two HDR images hold the same bits (for changes that must not move a pixel: "close"
+// is not enough).
+inline bool identical(const Image& a, const Image& b) {
+  return a.width() == b.width() && a.height() == b.height() &&
+         std::memcmp(a.data().data(), b.data().data(), a.data().size() * sizeof(float)) == 0;
+}
 
 inline void add_quad(Scene& s, vec3 a, vec3 b, vec3 c, vec3 d, int material) {
   Mesh m;

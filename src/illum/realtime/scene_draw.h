@@ -93,6 +93,11 @@ struct SceneView {
   bool per_draw = true;
   std::optional<mat4> cull;
   bool cull_depth = true;
+  // When set, the clip transform of the region the view's map is read in (a cascade's slice
+  // of the camera's frustum, widened by the lookup's reach): clusters wholly outside its x or
+  // y planes, or wholly beyond z = 1, are not drawn (they write no texel a lookup reads); its
+  // near side culls nothing. Unlike `cull`, it changes the map outside that region.
+  std::optional<mat4> receivers;
   // When set, each draw pushes clip_from_world × its model matrix as push.model: the vertex
   // shader of a depth-only view (shadow_depth.vert) then runs one transform, not two.
   std::optional<mat4> clip_from_world;

@@ -9,6 +9,7 @@
 // shaders/shadow_set.glsl).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
@@ -244,7 +245,8 @@ class ShadowMaps final : public ShadowMethod {
     if (cascade_light_ >= 0) {
       GpuShadowLight& g = sl[static_cast<size_t>(cascade_light_)];
       glm::vec4 half_widths(0.0f);
-      u.cascade_splits = update_cascades(&views, &half_widths);
+      cascade_receivers_.clear();
+      u.cascade_splits = update_cascades(&views, &half_widths, &cascade_receivers_);
       g.slot = glm::ivec4(-1, static_cast<int>(views.size()) - kCascades, kCascades, 0);
       g.params = half_widths;
     }
@@ -298,6 +300,8 @@ class ShadowMaps final : public ShadowMethod {
     v.cull = view_matrices_.at(static_cast<size_t>(view));
     if (depth_map) v.clip_from_world = v.cull;
     v.cull_depth = &pipeline != &ortho_;  // the cascades clamp casters behind their near plane
+    if (&pipeline == &ortho_ && param<bool>("caster_culling"))
+      v.receivers = cascade_receivers_.at(static_cast<size_t>(view - cascade_view_offset()));
     v.front_to_back = true;
     v.occlusion = SceneView::Occlusion::kTwoPhase;
     v.occlusion_key = "shadow." + std::to_string(view);  // every view keeps its own history
@@ -311,11 +315,49 @@ class ShadowMaps final : public ShadowMethod {
         {resolution_, resolution_, colors, kShadowDepthFormat, D::kReject});
   }
 
+  // The part of a cascade's map its lookups can read, as a clip transform for
+  // SceneView::receivers: the light-space box of its slice of the camera's frustum (`corners`,
+  // world space; `clip` the cascade's view, `texel` and `half_width` its texel and half side,
+  // `depth` its depth range in world units), widened by the lookup's reach — the normal offset
+  // (1.5 texels), the PCF radius and one texel for the nearest texel's rounding (VSM: its
+  // bilinear footprint) — on every side. A caster outside it laterally writes no texel a
+  // lookup reads; with PCF one wholly beyond its far side (farther from the light than every
+  // receiver) changes no comparison either (removing it only raises the stored depth where it
+  // was the nearest, and it was behind the receiver there). VSM's filtered moments do mix
+  // such casters in, so VSM culls laterally only.
+  glm::mat4 receiver_region(const glm::mat4& clip, const vec3 corners[8], float texel,
+                            float half_width, float depth) const {
+    const float reach_texels = 2.5f + (vsm_ ? 0.0f : param<float>("pcf_radius"));
+    const float reach = reach_texels * texel;  // world units
+    vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+    for (int c = 0; c < 8; ++c) {
+      const vec3 p = vec3(clip * vec4(corners[c], 1.0f));
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    // Orthographic: a world distance d is d / half_width in x and y, d / depth in z.
+    const float pad_xy = reach / half_width, pad_z = reach / depth;
+    lo -= vec3(pad_xy, pad_xy, 0.0f);
+    hi += vec3(pad_xy, pad_xy, pad_z);
+    const float z_far = vsm_ ? std::numeric_limits<float>::max() : std::max(hi.z, 1e-6f);
+    // x, y: [lo, hi] → [−1, 1]; z: scaled by 1 / z_far, so only "beyond the far side" (z > 1)
+    // culls and everything in front of the slice (z < 0 included: depth-clamped casters) stays.
+    mat4 s(1.0f);
+    s[0][0] = 2.0f / (hi.x - lo.x);
+    s[1][1] = 2.0f / (hi.y - lo.y);
+    s[2][2] = 1.0f / z_far;
+    s[3][0] = -(hi.x + lo.x) / (hi.x - lo.x);
+    s[3][1] = -(hi.y + lo.y) / (hi.y - lo.y);
+    return s * clip;
+  }
+
   // Cascaded shadow maps (S001 §4.2.1): the view frustum split between uniform and
   // logarithmic (λ = 0.5); each split's bounding sphere gets an orthographic light view,
   // snapped to whole texels so the maps do not shimmer as the camera moves. Appends the
-  // cascades' matrices to `views`; returns the splits.
-  glm::vec4 update_cascades(std::vector<glm::mat4>* views, glm::vec4* half_widths) const {
+  // cascades' matrices to `views` and the regions their lookups read to `receivers`; returns
+  // the splits.
+  glm::vec4 update_cascades(std::vector<glm::mat4>* views, glm::vec4* half_widths,
+                            std::vector<glm::mat4>* receivers) const {
     const FrameView& fv = ctx_.view();
     const Camera& camera = fv.camera;
     const float near_plane = fv.near_plane, aspect = fv.aspect;
@@ -370,6 +412,7 @@ class ShadowMaps final : public ShadowMethod {
           glm::orthoRH_ZO(-radius, radius, -radius, radius, 0.0f, scene_extent + radius);
       views->push_back(proj * view);
       (*half_widths)[k] = radius;
+      receivers->push_back(receiver_region(proj * view, corners, texel, radius, scene_extent));
       prev = split;
     }
     return splits;
@@ -385,7 +428,8 @@ class ShadowMaps final : public ShadowMethod {
   gpu::Pipeline radial_, ortho_;
   CountingPipelines radial_count_, ortho_count_;
   gpu::Buffer views_, shadow_lights_, uniforms_;
-  std::vector<glm::mat4> view_matrices_;  // views_'s contents, for culling on the CPU
+  std::vector<glm::mat4> view_matrices_;      // views_'s contents, for culling on the CPU
+  std::vector<glm::mat4> cascade_receivers_;  // receiver_region of each cascade
   gpu::DescriptorAllocator descriptors_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };
@@ -403,6 +447,10 @@ std::vector<ParamDecl> map_params() {
           .structural()
           .aka("shadow_update_period")
           .slider(UiHint::kLinear, 0, 30),
+      bool_param("caster_culling", true,
+                 "cascades: draw only the clusters that can cast into the texels their lookups "
+                 "read (the slice of the view frustum, widened by the lookup's reach); the "
+                 "image does not change"),
       int_param("views_per_frame", 0, 0, 1000,
                 "k > 0: re-render k cube faces or spot maps a frame in turn (round-robin) "
                 "instead of all at once; all of them still when the lights change")
