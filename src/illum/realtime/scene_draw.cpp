@@ -79,8 +79,8 @@ vec3 box_corner(const Bounds3& b, int k) {
 }
 
 // Whether every corner of `b` lies outside one clip plane of `clip` (then nothing of it can be
-// rasterized); the near and far planes count only when `depth` is true.
-bool outside(const mat4& clip, const Bounds3& b, bool depth) {
+// rasterized); the near and far planes count only when `near` and `far` are true.
+bool outside(const mat4& clip, const Bounds3& b, bool near, bool far) {
   int below_x = 0, above_x = 0, below_y = 0, above_y = 0, below_z = 0, above_z = 0;
   for (int k = 0; k < 8; ++k) {
     const vec3 p = box_corner(b, k);
@@ -92,23 +92,8 @@ bool outside(const mat4& clip, const Bounds3& b, bool depth) {
     below_z += h.z < 0.0f;
     above_z += h.z > h.w;
   }
-  return below_x == 8 || above_x == 8 || below_y == 8 || above_y == 8 ||
-         (depth && (below_z == 8 || above_z == 8));
-}
-
-// Whether every corner of `b` lies outside one of the x and y planes of `receivers`, or
-// beyond its far plane (z > w) — SceneView::receivers.
-bool beyond_receivers(const mat4& receivers, const Bounds3& b) {
-  int below_x = 0, above_x = 0, below_y = 0, above_y = 0, above_z = 0;
-  for (int k = 0; k < 8; ++k) {
-    const vec4 h = receivers * vec4(box_corner(b, k), 1.0f);
-    below_x += h.x < -h.w;
-    above_x += h.x > h.w;
-    below_y += h.y < -h.w;
-    above_y += h.y > h.w;
-    above_z += h.z > h.w;
-  }
-  return below_x == 8 || above_x == 8 || below_y == 8 || above_y == 8 || above_z == 8;
+  return below_x == 8 || above_x == 8 || below_y == 8 || above_y == 8 || (near && below_z == 8) ||
+         (far && above_z == 8);
 }
 
 }  // namespace
@@ -130,8 +115,9 @@ std::vector<uint32_t> visible_clusters(const GpuScene& scene, const SceneView& v
   std::vector<uint32_t> out;
   out.reserve(clusters.size());
   for (uint32_t c = 0; c < clusters.size(); ++c)
-    if ((!view.cull || !outside(*view.cull, clusters[c].bounds, view.cull_depth)) &&
-        (!view.receivers || !beyond_receivers(*view.receivers, clusters[c].bounds)))
+    if ((!view.cull ||
+         !outside(*view.cull, clusters[c].bounds, view.cull_depth, view.cull_depth)) &&
+        (!view.receivers || !outside(*view.receivers, clusters[c].bounds, false, true)))
       out.push_back(c);
   if (view.cull && view.front_to_back) {
     std::vector<float> depth(clusters.size());

@@ -24,7 +24,7 @@ namespace {
 
 // Shadow maps hold distance/far and, for VSM only, its square: PCF needs half the bytes.
 // PCF's cascades are the depth buffer itself (an orthographic depth is the distance along
-// the light over the view's depth range): no colour target, no fragment shader.
+// the light over the view's depth range): no colour target, an empty fragment stage.
 constexpr VkFormat kVsmFormat = VK_FORMAT_R32G32_SFLOAT;
 constexpr VkFormat kPcfFormat = VK_FORMAT_R32_SFLOAT;
 constexpr VkFormat kShadowDepthFormat = VK_FORMAT_D32_SFLOAT;
