@@ -50,7 +50,7 @@ namespace {
 // The rectangles spread evenly among the setup triangles, as a scene's large and small
 // triangles mix, so the chip can overlap the setup of the one with the pixels of the other.
 MixedMesh make_mixed(uint32_t width, uint32_t height, uint32_t triangles, double layers,
-                     uint32_t patch, bool scatter) {
+                     uint32_t patch, bool scatter, bool cover) {
   MixedMesh m;
   const int full = static_cast<int>(std::floor(layers));
   const double partial = layers - full;
@@ -59,7 +59,7 @@ MixedMesh make_mixed(uint32_t width, uint32_t height, uint32_t triangles, double
   const uint32_t setup_vertices = patch_vertices(triangles, patch);
   m.push.setup_vertices = static_cast<int32_t>(setup_vertices);
   m.push.patch = static_cast<int32_t>(patch);
-  m.push.spread = scatter ? 1 : 0;
+  m.push.spread = cover ? 2 : scatter ? 1 : 0;
   m.push.rectangles = full + (partial > 1e-6 ? 1 : 0);
   m.push.partial = partial > 1e-6 ? static_cast<float>(partial) : 1.0f;
   const uint32_t rectangles = static_cast<uint32_t>(m.push.rectangles);
@@ -123,7 +123,7 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
   gpu::Buffer index_buffer;
   if (mixed) {
     mesh = make_mixed(f.width, f.height, geometry.setup_triangles, geometry.mixed_layers,
-                      geometry.patch, geometry.scatter);
+                      geometry.patch, geometry.scatter, geometry.cover);
     index_buffer =
         gpu::make_device_buffer(ctx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t),
                                 VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
@@ -272,12 +272,15 @@ std::vector<double> time_fill(gpu::Context& ctx, const gpu::RasterFill& f, int r
     // of slack for how the edge falls on them).
     const double full = std::floor(geometry.mixed_layers);
     const double rows = std::ceil((geometry.mixed_layers - full) * f.height - 0.5 - 1e-9);
-    const double want = (full * f.height + std::max(0.0, rows)) * f.width;
+    const double want = (full * f.height + std::max(0.0, rows)) * f.width +
+                        (geometry.cover && !rejecting ? geometry.setup_triangles : 0.0);
     if (!got || std::abs(static_cast<double>(counted) - want) > f.width)
-      throw Error(
-          fmt::format("illum-bench raster: the mixed pass for {} covered {} samples, "
-                      "not the {} of {:.4f} layers",
-                      f.key(), counted, want, geometry.mixed_layers));
+      throw Error(fmt::format(
+          "illum-bench raster: the mixed pass for {} covered {} samples, not the {} of {:.4f} "
+          "layers{}",
+          f.key(), counted, want, geometry.mixed_layers,
+          geometry.cover ? fmt::format(" and {} one-sample triangles", geometry.setup_triangles)
+                         : ""));
   }
   std::vector<double> ms;
   const std::vector<gpu::PassTime> times = timer.resolve();
@@ -364,6 +367,16 @@ double setup_ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
   g.patch = patch;
   g.scatter = scatter;
   *runs = time_fill(ctx, f, repeats, g, vertex_invocations);
+  return median(*runs) / triangles;
+}
+
+double covering_ms_per_triangle(gpu::Context& ctx, const gpu::RasterFill& f, uint32_t triangles,
+                                int repeats, std::vector<double>* runs, uint32_t patch) {
+  BoundGeometry g;
+  g.setup_triangles = triangles;
+  g.patch = patch;
+  g.cover = true;
+  *runs = time_fill(ctx, f, repeats, g);
   return median(*runs) / triangles;
 }
 

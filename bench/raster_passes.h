@@ -25,6 +25,8 @@ struct BoundGeometry {
   double mixed_layers = 0.0;
   uint32_t patch = 1;
   bool scatter = false;  // patch k in pixel k (row by row), or in a pixel scattered by k
+  // Instead, each triangle covers one sample: cells of 2 × 1 pixels, patches tiling the target.
+  bool cover = false;
 };
 
 // Vertices of `triangles` triangles in patches of `patch` (the last one may be partial), and
@@ -47,6 +49,10 @@ double ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
 double setup_ms_per_triangle(gpu::Context& ctx, uint32_t triangles, int repeats,
                              std::vector<double>* runs, uint32_t patch, bool scatter,
                              double* vertex_invocations);
+// Triangles covering one sample each (BoundGeometry::cover) into the attachments of `f`, in
+// `patch` grids; ms per triangle.
+double covering_ms_per_triangle(gpu::Context& ctx, const gpu::RasterFill& f, uint32_t triangles,
+                                int repeats, std::vector<double>* runs, uint32_t patch);
 
 // Copy bandwidth (bytes read + written per ms) of two device-local buffers of `bytes`.
 double copy_bytes_per_ms(gpu::Context& ctx, VkDeviceSize bytes, int repeats,

@@ -114,6 +114,10 @@ assert vis["visibility_resolve"]["bound"] in ("memory", "dispatch"), vis["visibi
 assert any("triangles" in w for w in vis["visibility"]["work"]), vis["visibility"]
 assert d["triangles"]["ms_per_triangle"] > 0, d["triangles"]
 assert d["setup_triangles"]["ms_per_triangle"] > 0, d["setup_triangles"]
+# One-sample triangles (each checked by its occlusion query inside the bench) into every
+# depth-only attachment set: the pre-pass's.
+cover = {c["key"].replace("d24s8", "d32s8"): c for c in d["covering_triangles"]}
+assert "48x32 d32s8 write" in cover and all(c["ms_per_triangle"] > 0 for c in cover.values()), cover
 for n in ["forward-map", "deferred-map", "deferred-volume", "visibility-map"]:
     fr = json.load(open(sys.argv[1].replace("raster.json", n + ".json")))
     assert fr["validation_messages"] == 0, n

@@ -11,7 +11,8 @@ layout(push_constant) uniform Mixed {
   float partial;  // height fraction of the last rectangle
   int rectangles;
   int cells;   // cells per side of a patch
-  int spread;  // 0: patch k in pixel k (row by row), 1: in a pixel scattered over the target
+  int spread;  // 0: patch k in pixel k (row by row), 1: in a pixel scattered over the target,
+               // 2: covering — each cell 2 × 1 pixels, each triangle holding one sample
 } mixed;
 void main() {
   const int v = gl_VertexIndex;
@@ -19,6 +20,17 @@ void main() {
   if (v < mixed.setup_vertices) {
     const int side = mixed.cells + 1;
     const int k = v / (side * side), local = v % (side * side);
+    if (mixed.spread == 2) {
+      // Patches tile the target row by row (wrapping onto it again past its last row): a
+      // cell's two triangles split it along the diagonal from (2, 0) to (0, 1), one pixel
+      // centre on each side of it, none on an edge.
+      const int across = max(1, mixed.size.x / (2 * mixed.cells));
+      const int rows = max(1, mixed.size.y / mixed.cells);
+      const ivec2 origin = ivec2(k % across * 2 * mixed.cells, k / across % rows * mixed.cells);
+      const vec2 at = vec2(origin) + vec2(2 * (local % side), local / side);
+      gl_Position = vec4(at / vec2(mixed.size) * 2.0 - 1.0, 0.5, 1.0);
+      return;
+    }
     const uint pixels = uint(mixed.size.x * mixed.size.y);
     // Knuth's multiplicative hash scatters consecutive patches over the whole target.
     const uint at = mixed.spread == 1 ? (uint(k) * 2654435761u) % pixels : uint(k) % pixels;
