@@ -257,12 +257,11 @@ int run_raster(SuiteArgs args) {
     std::vector<double> runs;
     const double ms =
         covering_ms_per_triangle(ctx, fill, measured_triangles, repeats, &runs, fastest->patch);
-    std::printf("  covering rate %.0f Mtriangles/s (%u triangles of one sample, %u×%u patches, %s)\n",
-                1e-3 / ms, measured_triangles, fastest->patch, fastest->patch, key.c_str());
-    covering.push_back({{"key", key},
-                        {"patch", fastest->patch},
-                        {"ms_per_triangle", ms},
-                        {"runs_ms", runs}});
+    std::printf(
+        "  covering rate %.0f Mtriangles/s (%u triangles of one sample, %u×%u patches, %s)\n",
+        1e-3 / ms, measured_triangles, fastest->patch, fastest->patch, key.c_str());
+    covering.push_back(
+        {{"key", key}, {"patch", fastest->patch}, {"ms_per_triangle", ms}, {"runs_ms", runs}});
   }
   std::map<std::string, double> bound_ms, fixed_ms;
   nlohmann::json bounds = nlohmann::json::array();
