@@ -102,6 +102,9 @@ struct SceneView {
   // shader of a depth-only view (shadow_depth.vert) then runs one transform, not two.
   std::optional<mat4> clip_from_world;
   bool front_to_back = false;
+  // The clip-space depth a front-to-back view sorts its clusters by (cluster_depth below).
+  enum class DepthKey { kFarthest, kCentre };
+  DepthKey depth_key = DepthKey::kFarthest;
   // Occlusion culling (OcclusionCuller, when switched on): kTwoPhase for a pass that writes
   // the depth from cleared (pre-pass, visibility raster, shadow views), kVisibleNow for one
   // that tests against the depth such a pass of `occlusion_key` finished this frame (it then
@@ -123,14 +126,17 @@ struct SceneView {
   }
 };
 
-// The clip-space depth (z before the divide) of the farthest corner of `b`: the key depth-like
-// passes sort clusters by. A cluster whose farthest corner is nearer than another's lies
-// wholly in front of it when their depth ranges do not overlap, and a large cluster that
-// spans depth (a floor, a wall) goes after the compact ones in front of it, so they occlude
-// it — on the H200 (Sibenik 1080p) the pre-pass passes 1.15 layers instead of 1.49 with the
-// centre as the key, and the frame takes 2.000 ms instead of 2.147
-// (bench/results/h200-2026-12-02-order). The nearest corner as the key was worse (2.79 ms).
-float farthest_depth(const mat4& clip, const Bounds3& b);
+// The clip-space depth (z before the divide) of `b`'s farthest corner, or of the middle of its
+// depth range: the keys depth-like passes sort clusters by. A cluster whose farthest corner is
+// nearer than another's lies wholly in front of it when their depth ranges do not overlap, and
+// a large cluster that spans depth (a floor, a wall) goes after the compact ones in front of
+// it, so they occlude it — on the H200 (Sibenik 1080p) the pre-pass passes 1.15 layers instead
+// of 1.49 with the centre as the key, and the frame takes 2.000 ms instead of 2.147
+// (bench/results/h200-2026-12-02-order); the nearest corner was worse (2.79 ms), and the spot
+// maps too prefer the farthest corner (0.351 ms against 0.369 with the centre). The cascades'
+// orthographic views from a high sun are the exception: the centre gives 0.364 ms against
+// 0.371 (the nearest corner 0.414, no order 0.438; bench/results/h200-2026-12-02-covering).
+float cluster_depth(const mat4& clip, const Bounds3& b, SceneView::DepthKey key);
 
 // The clusters `view` draws, in the order it draws them (every cluster, in draw order, when
 // the view neither culls nor sorts).

@@ -303,6 +303,7 @@ class ShadowMaps final : public ShadowMethod {
     if (&pipeline == &ortho_ && param<bool>("caster_culling"))
       v.receivers = cascade_receivers_.at(static_cast<size_t>(view - cascade_view_offset()));
     v.front_to_back = true;
+    if (&pipeline == &ortho_) v.depth_key = SceneView::DepthKey::kCentre;  // cluster_depth
     v.occlusion = SceneView::Occlusion::kTwoPhase;
     v.occlusion_key = "shadow." + std::to_string(view);  // every view keeps its own history
     using D = gpu::RasterFill::Depth;
