@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     std::printf("error %.2f m sloppy: %zu triangles (%.1f%%), result error %.3f m\n", e, n2 / 3,
                 100.0 * n2 / w.size(), e2 * scale);
   }
-  for (float e : {0.01f}) {
+  for (float e : {0.01f, 0.02f, 0.05f, 0.1f, 0.2f}) {
     for (unsigned opt : {0u, unsigned(meshopt_SimplifyLockBorder)}) {
       std::vector<unsigned> out(w.size());
       float err = 0;
