@@ -21,7 +21,12 @@ inline bool in_ci() {
 
 // `relative` inside the shared scenes folder, e.g. "sibenik/sibenik.obj".
 inline std::string shared_scene(const std::string& relative) {
-  return std::string(ILLUM_SHARED_SCENES) + "/" + relative;
+  // Appended in place: GCC 12 at -O1 warns (-Warray-bounds, a false positive in libstdc++'s
+  // inlined copy) on the `string + "/" + relative` chain once the headers come precompiled.
+  std::string path = ILLUM_SHARED_SCENES;
+  path += '/';
+  path += relative;
+  return path;
 }
 
 inline bool on_path(const std::string& program) {
