@@ -11,6 +11,7 @@
 
 #include <meshoptimizer.h>
 
+#include "illum/core/color.h"
 #include "illum/realtime/gpu_scene.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/scene_draw.h"
@@ -206,6 +207,50 @@ TEST_F(SceneClusters, CascadeCasterCullingLeavesEveryPixelAsItWas) {
       EXPECT_LT(drawn, 0.95 * all) << "the culling dropped nothing";
     }
   }
+}
+
+// The PCF cascades in d16 (map.cascade_depth, the default) hold the depth the d32 ones hold
+// to one step of 16 bits (1/65535 of the cascade's depth range: an orthographic depth is
+// linear and a depth test keeps the nearest whichever the format), at every texel of every
+// cascade of Sibenik's camera; the frame's image changes on few pixels.
+TEST_F(SceneClusters, CascadesInD16HoldTheD32DepthToAStep) {
+  const Scene scene = load_scene("sibenik");
+  auto renderer = [&](const char* depth) {
+    RenderSettings o;
+    o.width = 96;
+    o.height = 64;
+    o.pipeline = "deferred";
+    o.shadows = "map";
+    o.set("map.cascade_depth", std::string(depth));
+    auto r = std::make_unique<Renderer>(context(), scene, o);
+    r->render(*scene.camera);
+    return r;
+  };
+  std::unique_ptr<Renderer> d16 = renderer("d16"), d32 = renderer("d32");
+  const double step = 1.0 / 65535.0;
+  for (uint32_t layer = 0; layer < 4; ++layer) {
+    const Image a = d16->read_resource("shadow.cascades", layer);
+    const Image b = d32->read_resource("shadow.cascades", layer);
+    ASSERT_EQ(a.pixel_count(), b.pixel_count());
+    double worst = 0.0;
+    size_t covered = 0;
+    for (size_t i = 0; i < a.pixel_count(); ++i) {
+      worst = std::max(worst, std::abs(double(a.data()[i]) - double(b.data()[i])));
+      covered += b.data()[i] < 1.0f;
+    }
+    std::printf("cascade %u: %zu of %zu texels covered, d16 - d32 at most %.3f steps\n", layer,
+                covered, a.pixel_count(), worst / step);
+    EXPECT_GT(covered, a.pixel_count() / 10) << "cascade " << layer << " holds no casters";
+    EXPECT_LE(worst, step * 1.001) << "cascade " << layer;
+  }
+  const Image x = d16->hdr(), y = d32->hdr();
+  size_t differ = 0;
+  for (int j = 0; j < x.height(); ++j)
+    for (int i = 0; i < x.width(); ++i)
+      differ += std::abs(luminance(x.rgb(i, j)) - luminance(y.rgb(i, j))) >
+                1e-3f * luminance(y.rgb(i, j)) + 1e-6f;
+  std::printf("d16 and d32 cascades: %zu of %zu pixels differ\n", differ, x.pixel_count());
+  EXPECT_LE(differ, x.pixel_count() / 1000);
 }
 
 TEST_F(SceneClusters, CullingKeepsEveryClusterTheViewCanSeeAndSortsFrontToBack) {

@@ -70,6 +70,8 @@ struct Case {
   bool back = false;  // volumes from back-facing casters
   std::string technique = "forward";
   std::string silhouettes = "gpu";
+  std::string cascade_depth = "d16";  // map's cascades: d16 (the default) or d32
+  float bias = 0.002f;                // map.bias (the default)
 };
 
 Image render_hdr(const Scene& scene, const Case& c) {
@@ -79,6 +81,8 @@ Image render_hdr(const Scene& scene, const Case& c) {
   o.set("map.pcf_taps", 1);
   o.set("map.resolution", 512);
   o.set("vsm.resolution", 512);
+  o.set("map.cascade_depth", c.cascade_depth);
+  o.set("map.bias", c.bias);
   o.set("volume.back_faces", c.back);
   o.pipeline = c.technique;
   o.set("volume.silhouettes", c.silhouettes);
@@ -148,7 +152,12 @@ void check_agreement(const Scene& scene) {
   const std::string fwd = "forward", deferred = "deferred";
   const std::string gpu = "gpu", cpu = "cpu";
   const std::string volume = "volume";
-  for (const Case& c : {Case{"shadow map", "map"}, Case{"VSM", "vsm"},
+  Case d32{"shadow map, d32 cascades", "map"};
+  d32.cascade_depth = "d32";
+  // Without a depth bias, the normal offset alone must cover d16's rounding.
+  Case unbiased{"shadow map, no bias", "map"};
+  unbiased.bias = 0.0f;
+  for (const Case& c : {Case{"shadow map", "map"}, d32, unbiased, Case{"VSM", "vsm"},
                         Case{"volumes, front, CPU", volume, false, fwd, cpu},
                         Case{"volumes, back, CPU", volume, true, fwd, cpu},
                         Case{"volumes, front, GPU", volume, false, fwd, gpu},

@@ -29,6 +29,8 @@ const char* format_name(VkFormat f) {
       return "r32ui";
     case VK_FORMAT_D32_SFLOAT:
       return "d32";
+    case VK_FORMAT_D16_UNORM:
+      return "d16";
     case VK_FORMAT_D32_SFLOAT_S8_UINT:
       return "d32s8";
     case VK_FORMAT_D24_UNORM_S8_UINT:
@@ -60,6 +62,8 @@ uint32_t format_bytes(VkFormat f) {
       return 8;
     case VK_FORMAT_R32G32B32A32_SFLOAT:
       return 16;
+    case VK_FORMAT_D16_UNORM:
+      return 2;
     case VK_FORMAT_R8_UINT:
     case VK_FORMAT_S8_UINT:
       return 1;
@@ -73,6 +77,7 @@ int format_channels(VkFormat f) {
   switch (f) {
     case VK_FORMAT_R32_SFLOAT:
     case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_D16_UNORM:
     case VK_FORMAT_S8_UINT:
       return 1;
     case VK_FORMAT_R32G32_SFLOAT:
@@ -310,9 +315,10 @@ Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask, uint32_
   if (aspect_mask == VK_IMAGE_ASPECT_STENCIL_BIT)
     f = VK_FORMAT_S8_UINT;
   else if (aspect_mask == VK_IMAGE_ASPECT_DEPTH_BIT && is_depth_format(f)) {
-    ILLUM_CHECK(f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D32_SFLOAT_S8_UINT,
-                "depth readback needs a 32-bit float depth format");
-    f = VK_FORMAT_D32_SFLOAT;
+    ILLUM_CHECK(
+        f == VK_FORMAT_D32_SFLOAT || f == VK_FORMAT_D32_SFLOAT_S8_UINT || f == VK_FORMAT_D16_UNORM,
+        "depth readback needs a d32 or d16 depth format");
+    if (f != VK_FORMAT_D16_UNORM) f = VK_FORMAT_D32_SFLOAT;
   }
   const uint32_t texel = format_bytes(f);
   const VkDeviceSize bytes = VkDeviceSize(width) * height * texel;
@@ -354,6 +360,12 @@ Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask, uint32_
       case VK_FORMAT_S8_UINT:
         dst[i] = raw[i];
         break;
+      case VK_FORMAT_D16_UNORM: {
+        uint16_t d;
+        std::memcpy(&d, &raw[i * 2], 2);
+        dst[i] = d / 65535.0f;
+        break;
+      }
       default:
         std::memcpy(&dst[i * channels], &raw[i * texel], texel);
         break;

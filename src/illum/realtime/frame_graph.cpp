@@ -550,9 +550,9 @@ double FrameGraph::bytes_of(const PassDesc& pass, uint64_t frame) {
     if (c.image) {
       const gpu::ImageDesc& d = c.image->desc();
       // Depth + stencil: 4 + 1 bytes a texel as stored at least.
-      const double texel = d.format == VK_FORMAT_D32_SFLOAT_S8_UINT ? 5.0
-                           : gpu::is_depth_format(d.format)         ? 4.0
-                                                                    : gpu::format_bytes(d.format);
+      const double texel = d.format == VK_FORMAT_D32_SFLOAT_S8_UINT  ? 5.0
+                           : d.format == VK_FORMAT_D24_UNORM_S8_UINT ? 4.0
+                                                                     : gpu::format_bytes(d.format);
       size = static_cast<double>(d.width) * d.height * d.layers * texel;
     } else if (c.buffer) {
       size = static_cast<double>(c.buffer->size());

@@ -25,6 +25,10 @@ class FrameResources {
   std::vector<std::string> realize(FrameGraph& graph, uint32_t width, uint32_t height);
 
   bool has(const std::string& name) const { return entries_.count(name) > 0; }
+  bool has_image(const std::string& name) const {
+    auto it = entries_.find(name);
+    return it != entries_.end() && !it->second.images.empty();
+  }
   gpu::GpuImage& image(const std::string& name, int copy = 0);
   gpu::Buffer& buffer(const std::string& name, int copy = 0);
 

@@ -362,6 +362,17 @@ Image Renderer::hdr() {
   return impl_->resources.image("hdr").readback();
 }
 
+Image Renderer::read_resource(const std::string& name, uint32_t layer) {
+  Impl& m = *impl_;
+  if (!m.resources.has_image(name)) throw Error("no frame image named '" + name + "'");
+  gpu::GpuImage& image = m.resources.image(name);
+  if (layer >= image.desc().layers)
+    throw Error("frame resource '" + name + "' has no layer " + std::to_string(layer));
+  if (!(image.desc().usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT))
+    throw Error("frame resource '" + name + "' is not declared readable (extra_usage)");
+  return image.readback(layer);
+}
+
 float Renderer::log_average_luminance() {
   Impl& m = *impl_;
   if (!m.resources.has("luminance"))

@@ -57,6 +57,9 @@ class Renderer {
   bool measure_shading(const Camera& camera, int repeats, ShadingTime* out, Image* image = nullptr);
 
   Image hdr();  // linear radiance, RGBA
+  // One layer of a named frame resource as the last frame left it (depth formats as depth in
+  // [0, 1]), for tests and inspection. Throws Error for an unknown name or layer.
+  Image read_resource(const std::string& name, uint32_t layer = 0);
   // The log-average luminance of the last frame's HDR image as the GPU computed it for
   // auto-exposure, L_avg = exp(mean over pixels of ln(kLogAverageDelta + max(L, 0))) with L
   // the Rec.709 luminance; the tone mapper then scales by exposure · key / L_avg (Reinhard
