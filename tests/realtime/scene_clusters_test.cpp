@@ -243,6 +243,8 @@ TEST_F(SceneClusters, CascadesInD16HoldTheD32DepthToAStep) {
     EXPECT_GT(covered, a.pixel_count() / 10) << "cascade " << layer << " holds no casters";
     EXPECT_LE(worst, step * 1.001) << "cascade " << layer;
   }
+  EXPECT_THROW(d16->read_resource("shadow.cascades", 4), Error) << "a layer past the last";
+  EXPECT_THROW(d16->read_resource("no such image"), Error);
   const Image x = d16->hdr(), y = d32->hdr();
   size_t differ = 0;
   for (int j = 0; j < x.height(); ++j)

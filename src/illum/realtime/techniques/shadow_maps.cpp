@@ -86,7 +86,7 @@ class ShadowMaps final : public ShadowMethod {
         sh.color_formats = {};
       }
       sh.depth_clamp = ctx.gpu.depth_clamp();  // casters behind the cascade's near plane
-      sh.depth_format = cascade_format() == kVsmFormat ? kShadowDepthFormat : cascade_format();
+      sh.depth_format = vsm_ ? kShadowDepthFormat : cascade_depth_format_;
       ortho_ = gpu::Pipeline(ctx.gpu, layout, sh);
       ortho_count_ = CountingPipelines(ctx.gpu, layout, sh);
     }
