@@ -16,8 +16,12 @@
 // * geometry: the triangles a pass submits times the per-triangle time of culled one-point
 //   triangles (shaders/bound_tris.vert: vertex work and assembly, no setup, no pixel); where
 //   the counting frame also counted the triangles that left clipping (pipeline statistics),
-//   those are charged instead at the time of the cheapest rasterized triangle: a sub-pixel
-//   triangle set up and covering no sample (shaders/bound_setup.vert).
+//   those are bounded by the mixed and quad bounds below, which set them up on the pass's own
+//   attachments. (They were charged here at the setup rate of sub-pixel triangles on a 1024²
+//   target, shaders/bound_setup.vert; but that rate depends on the target: the mixed pass set
+//   up the d16 cascades' 251k triangles on 4 × 512² with their 4.5 passing layers on top in
+//   0.155 ms, where the 1024² rate charged 0.222 for the triangles alone — a bound above work
+//   the chip was measured doing. bench/results/h200-2026-12-03-d16-cascades.)
 // * mixed: where the triangles that left clipping were counted, a trivial pass draws that
 //   many set-up triangles covering no sample interleaved with full-target rectangles making
 //   the pass's passing layers, into each rendering's attachments (shaders/bound_mixed.vert):
@@ -428,8 +432,9 @@ int run_raster(SuiteArgs args) {
                   ? p["work"]["vertex_invocations"].get<double>() / std::max(triangles, 1.0)
                   : -1.0;
           const Arrangement& arrangement = *arrangement_for(vertices);
-          r.geometry_ms = (triangles - raster) * triangle_ms +
-                          raster * std::max(arrangement.setup_ms, triangle_ms);
+          // The rasterized ones are set up on the pass's own targets by the mixed and quad
+          // bounds below.
+          r.geometry_ms = (triangles - raster) * triangle_ms;
           if (raster >= 1.0) {
             r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster, 1.0, arrangement) +
                          (triangles - raster) * triangle_ms;
