@@ -432,12 +432,12 @@ int run_raster(SuiteArgs args) {
                   ? p["work"]["vertex_invocations"].get<double>() / std::max(triangles, 1.0)
                   : -1.0;
           const Arrangement& arrangement = *arrangement_for(vertices);
-          // The rasterized ones are set up on the pass's own targets by the mixed and quad
-          // bounds below.
+          // The triangles culled before rasterization; the rasterized ones are set up on the
+          // pass's own targets by the mixed and quad bounds below, which add these.
           r.geometry_ms = (triangles - raster) * triangle_ms;
           if (raster >= 1.0) {
-            r.mixed_ms = mixed_bound(p["work"]["fills"], files[i], raster, 1.0, arrangement) +
-                         (triangles - raster) * triangle_ms;
+            r.mixed_ms =
+                mixed_bound(p["work"]["fills"], files[i], raster, 1.0, arrangement) + r.geometry_ms;
             r.details.push_back(fmt::format("mixed {:.4f}", r.mixed_ms));
             const double quads = p["work"].value("quads", -1.0);
             const double counted = p["work"].value("quad_samples", -1.0);
@@ -449,7 +449,7 @@ int run_raster(SuiteArgs args) {
                     files[i], r.name, counted, passing_samples));
               const double scale = 4.0 * quads / counted;
               r.quads_ms = mixed_bound(p["work"]["fills"], files[i], raster, scale, arrangement) +
-                           (triangles - raster) * triangle_ms;
+                           r.geometry_ms;
               r.details.push_back(fmt::format("quads {:.4f} ({:.4g} quads, {:.3f}× the samples)",
                                               r.quads_ms, quads, scale));
             }
