@@ -15,6 +15,12 @@ if(ILLUM_BUILD_FUZZ AND NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
   message(FATAL_ERROR "ILLUM_BUILD_FUZZ needs clang (the asan preset uses it); "
                       "CMAKE_CXX_COMPILER is ${CMAKE_CXX_COMPILER_ID}")
 endif()
+# Options of every layer object beyond illum::options; the layers' shared precompiled header
+# is built with them too, or it would not fit the objects that reuse it.
+set(ILLUM_LAYER_COMPILE_OPTIONS "")
+if(ILLUM_BUILD_FUZZ)
+  list(APPEND ILLUM_LAYER_COMPILE_OPTIONS -fsanitize=fuzzer-no-link)
+endif()
 
 # Where the project's own data (built-in scenes) lives, for lookups without a path.
 set(ILLUM_DATA_DIR "${PROJECT_SOURCE_DIR}/data" CACHE PATH "illum data folder")
@@ -55,13 +61,9 @@ function(illum_layer name)
     target_link_libraries(illum_layer_pch PRIVATE illum::options glm::glm TBB::tbb spdlog::spdlog
                                                   fmt::fmt nlohmann_json::nlohmann_json)
     set_target_properties(illum_layer_pch PROPERTIES POSITION_INDEPENDENT_CODE ON)
-    if(ILLUM_BUILD_FUZZ)
-      target_compile_options(illum_layer_pch PRIVATE -fsanitize=fuzzer-no-link)
-    endif()
+    target_compile_options(illum_layer_pch PRIVATE ${ILLUM_LAYER_COMPILE_OPTIONS})
     target_precompile_headers(illum_layer_pch PRIVATE ${ILLUM_LAYER_PCH_HEADERS})
   endif()
   target_precompile_headers(illum_${name} REUSE_FROM illum_layer_pch)
-  if(ILLUM_BUILD_FUZZ)
-    target_compile_options(illum_${name} PRIVATE -fsanitize=fuzzer-no-link)
-  endif()
+  target_compile_options(illum_${name} PRIVATE ${ILLUM_LAYER_COMPILE_OPTIONS})
 endfunction()
