@@ -1,4 +1,4 @@
-// Per-pixel irradiance of the probe volume for dynamic objects (issue 11 part 4; the CPU
+// Per-pixel irradiance of the probe volume for dynamic objects (the CPU
 // mirror, operation for operation, is realtime/probe_volume.cpp probe_volume_irradiance, and
 // tests/realtime/probe_volume_test.cpp holds the two together pixel by pixel).
 //

@@ -1,4 +1,4 @@
-// Long light-map bakes (issue 12 parts 7 and 9): the path baker's time budget
+// Long light-map bakes: the path baker's time budget
 // (passes that double the samples per texel), the peak-memory estimate that
 // refuses bakes the machine cannot hold, and atlases of meshes with zero-area
 // triangles.

@@ -126,7 +126,7 @@ Image floor_view(const Scene& scene, int room, const Image& map) {
 // lies in the dark half x < 0 (the dark room and the dark half of the wall's footprint).
 // Materials are two-sided opaque, so the inside of the closed wall is black: samples left
 // under the wall do not leak light into the dark room here, they leak *shadow* into the
-// lit room (a black texel row along the lit side of the wall, the "dark seam" of issue 12).
+// lit room (a black texel row along the lit side of the wall, a "dark seam").
 // The push-out must fix that — every lit-half texel centred under the wall reads > 0 after
 // (the point light is in plain view of the wall's foot, so each sample's next-event
 // estimate is positive) and exactly 0 before — without pushing dark-half samples to the

@@ -1,4 +1,4 @@
-// PRT against the path tracer (issue 11, deliverable 3): the Cornell box (open at the front)
+// PRT against the path tracer: the Cornell box (open at the front)
 // with its lamp off, lit only by a distant sky. Lit by the band-limited (SH-projected) sky,
 // the relit interreflected transfer and the path tracer given that same sky as its
 // environment map must agree region by region within their Monte-Carlo errors: a

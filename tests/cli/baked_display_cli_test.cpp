@@ -1,4 +1,4 @@
-// `illum frame` / `illum view` --baked DIR (issue 11 parts 3, 5, 7 on the display side): the
+// `illum frame` / `illum view` --baked DIR on the display side: the
 // folder's kind told by its manifest; real-time PRT against `illum relight` of the same
 // folder under the same sun, per pixel, in every frame pipeline and every lookup; bake
 // identity and bad folders refused with one line, exit 2, nothing written.

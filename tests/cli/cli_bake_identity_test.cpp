@@ -1,4 +1,4 @@
-// Bake identity (issue 11, deliverable 5): a light-map folder records the geometry_hash of
+// Bake identity: a light-map folder records the geometry_hash of
 // the scene it was baked for (scene/geometry_hash.h: positions, normals, tangents, indices,
 // transforms, and the atlas's uv1), and `illum frame` / `illum view` refuse a folder baked
 // for another scene — or one that records no hash — with one line and exit 2, before any

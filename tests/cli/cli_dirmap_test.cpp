@@ -1,4 +1,4 @@
-// `illum bake --basis dominant` and its display (issue 12 part 3), and seam stitching's
+// `illum bake --basis dominant` and its display, and seam stitching's
 // switch (part 4), end to end: the folder's three layers reproduce the plain map of the
 // same scene on the baked normal; a real-time frame of Cornell from the dominant folder
 // (lavapipe, validation layers on) against the frame from the plain folder; bad options

@@ -1,4 +1,4 @@
-// `illum export SCENE --lightmap DIR -o OUT.glb` (issue 12, parts 6 and 9): a baked Cornell
+// `illum export SCENE --lightmap DIR -o OUT.glb`: a baked Cornell
 // box exports to a .glb the project's own loader reads back, with OUT.lightmap.exr beside it;
 // bad input — a folder baked for another scene, a missing or malformed folder, an output in
 // a missing folder or not named .glb, an unknown --tone — is one line, exit 2, and nothing

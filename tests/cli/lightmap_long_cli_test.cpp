@@ -1,4 +1,4 @@
-// Long light-map bakes through `illum bake` (issue 12 parts 7 and 9): `--time` for the path
+// Long light-map bakes through `illum bake`: `--time` for the path
 // baker (passes of doubling samples, the samples taken in the manifest), Ctrl-C during both
 // bakers (exit 130, nothing written), the peak-memory refusal (seen here through
 // ILLUM_MEMORY_LIMIT, so no huge machine is needed), a scene with nothing to bake and an

@@ -1,4 +1,4 @@
-// Distributed runs (issue 10, part 4): `mpirun -np N illum render|bake` splits tiles and
+// Distributed runs: `mpirun -np N illum render|bake` splits tiles and
 // texels over N ranks and gives the same bytes as one process for N = 1, 2, 3; threads per
 // rank default to the node's cores over its ranks; what cannot be split is refused with
 // exit 2; a rank that dies or a Ctrl-C to mpirun ends the job with no output.

@@ -1,4 +1,4 @@
-// `illum bake --kind probes` (issue 11 part 4): a bake that works, dynamic objects left out
+// `illum bake --kind probes`: a bake that works, dynamic objects left out
 // of the bake and its scene hash, and bad input — spacings ≤ 0, NaN or too fine for memory,
 // --spp 0, options of other kinds, an unlit scene, a malformed "dynamic" — each one line,
 // exit 2, and no folder written.

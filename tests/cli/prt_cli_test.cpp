@@ -1,4 +1,4 @@
-// `illum bake --kind prt` and `illum relight` (issue 11): a bake and relight that work, and
+// `illum bake --kind prt` and `illum relight`: a bake and relight that work, and
 // bad input — band counts, kinds, modes, a folder baked for another scene, missing or
 // corrupt folders, degenerate or non-finite sun directions — each one line, exit 2, and no
 // output written.

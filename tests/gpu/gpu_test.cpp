@@ -88,7 +88,7 @@ TEST_F(GpuTest, AllocatorReusesAndMergesFreedRanges) {
   EXPECT_EQ(a.stats().dedicated, start.dedicated + 1);
 }
 
-// Render targets and textures go to DEVICE_LOCAL memory or nowhere (issue 9 (c)): on a
+// Render targets and textures go to DEVICE_LOCAL memory or nowhere: on a
 // device with host memory only for the image the choice throws naming the image and the
 // device; a software device accepts host memory explicitly; DEVICE_LOCAL wins whenever the
 // image may use it, whatever the type order.

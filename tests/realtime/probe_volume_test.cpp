@@ -1,4 +1,4 @@
-// The probe volume on dynamic objects (issue 11 part 4; shaders/probe_volume.glsl,
+// The probe volume on dynamic objects (shaders/probe_volume.glsl,
 // realtime/probe_volume.h): the renderer's per-pixel lookup against its CPU mirror pixel by
 // pixel in every frame pipeline, on probes baked for the test Cornell box (with invalid
 // probes inside its blocks); the lookup varying across one flat face where the volume

@@ -113,7 +113,7 @@ TEST_F(RealtimeTest, PassesAreTimedAndShadowMapsRunOnlyOnChange) {
     for (const auto& t : renderer.pass_times()) n.push_back(t.name);
     return n;
   };
-  // The depth pre-pass is timed in its own scope (issue 9 (c)); occlusion culling is off by
+  // The depth pre-pass is timed in its own scope; occlusion culling is off by
   // default, so no culling scopes (occlusion_culling_test checks them when it is on).
   const std::vector<std::string> first = {"shadow_maps", "depth_prepass", "forward", "luminance",
                                           "tonemap"};
@@ -575,7 +575,7 @@ TEST_F(RealtimeTest, DeferredMatchesForward) {
   EXPECT_GE(static_cast<double>(a.within) / a.compared, 0.99) << "volumes";
 }
 
-// The visibility buffer (issue 9 (b)) against the other pipelines on DeferredMatchesForward's
+// The visibility buffer against the other pipelines on DeferredMatchesForward's
 // scene (two point lights, shadow maps, one light's range window), outside geometry edges,
 // with DeferredMatchesForward's bound: 1 % per pixel (floor 1 % of the mean) for 99 % of the
 // pixels. The same lighting.glsl functions run on inputs interpolated differently (the

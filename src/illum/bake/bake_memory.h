@@ -1,5 +1,5 @@
 // A light-map bake's peak memory, estimated from the atlas before the texels are rasterized,
-// and the check that refuses a bake the machine cannot hold (issue 12 part 9): a 16384²
+// and the check that refuses a bake the machine cannot hold: a 16384²
 // atlas of a large scene needs tens of GB, and a bake killed by the kernel after an hour of
 // rasterizing says nothing. The estimate is a sum of the arrays the bake holds at its peak,
 // per atlas texel (images) and per covered texel (samples, baker and denoiser state), with

@@ -1,5 +1,5 @@
-// Reconciliation of coplanar neighbours (S002 §3.3.6, the seed's second border step; issue 12
-// part 4): chart-boundary edges of surfaces in one plane that meet only in part — a
+// Reconciliation of coplanar neighbours (S002 §3.3.6, the seed's second border step):
+// chart-boundary edges of surfaces in one plane that meet only in part — a
 // T-junction (one long edge beside two short ones), two objects abutting with differently
 // split edges, or edges a hair apart — matched along their overlapping sub-segments. The
 // matches become seam samples of the same least-squares stitching system as seams whose end

@@ -1,4 +1,4 @@
-// Seams and leaks of light-maps (issue 12 part 4; S000 §2.7.1, S002 §3.3.6):
+// Seams and leaks of light-maps (S000 §2.7.1, S002 §3.3.6):
 //   keep_texels_out_of_geometry  texel sample points never inside or behind geometry (run
 //                                once on the raster, before any baker reads it);
 //   find_seams                   chart edges to join: same end points, or coplanar

@@ -1,4 +1,4 @@
-// Irradiance probes (S003 ch. 7, issue 11 part 4): a regular grid of points fitted to the
+// Irradiance probes (S003 ch. 7): a regular grid of points fitted to the
 // scene's bounds; at each, the incident radiance L(p, ω) over the whole sphere projected on
 // SH-L2 (9 coefficients per colour channel) by Monte Carlo with the path tracer's own
 // estimator (render/path_radiance.h), turned into irradiance by zonal convolution with the

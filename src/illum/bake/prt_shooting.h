@@ -22,7 +22,7 @@
 // prt.md). A back side starts unlit (the direct transfer is the front's) and is created
 // the first time something lands on it, so closed scenes pay nothing.
 //
-// Not the radiosity baker's bake/progressive_shooting.h, checked for issue 11: both are
+// Not the radiosity baker's bake/progressive_shooting.h: both are
 // Southwell iterations (an unshot part, the shooter by magnitude × area, a stop at a share
 // of the initial unshot total), but the transport differs. progressive_shooting.h hands a
 // group's power to every receiver through a point-to-disk form factor and one visibility

@@ -1,6 +1,6 @@
 // Receiver clusters for progressive shooting (progressive_shooting.h): a binary tree over the
 // patches' positions, so that a shot tests visibility once per far cluster instead of once
-// per receiver texel (issue 12 part 8: one ray per receiver made a shot O(N) rays and the
+// per receiver texel (one ray per receiver made a shot O(N) rays and the
 // whole bake O(N²) rays).
 //
 // A shot visits the tree from a fixed cut of subtrees (the parallel tasks). A far cluster

@@ -1,5 +1,5 @@
 // The irradiance volume the `baked` add-on reads per pixel to light instances marked
-// "dynamic": true (docs/probes.md "In the real-time renderer"; issue 11 part 4), and the CPU
+// "dynamic": true (docs/probes.md "In the real-time renderer"), and the CPU
 // mirror of that lookup, operation for operation as shaders/probe_volume.glsl does it, for
 // the tests and the per-instance ambient-cube fallback.
 //
