@@ -186,7 +186,7 @@ TEST(FormatMapping, SceneFileTransformCommentsAndDefaults) {
 
 // scene-format.md, glTF 2.0 materials and KHR_lights_punctual: a glossy dielectric is Blinn
 // with specular 0.04 and an exponent capped at 10⁴; base colour alpha → opacity; a
-// directional light's intensity is its irradiance in W/m².
+// directional light's intensity is its illuminance in lux, irradiance × 683 lm/W.
 TEST(FormatMapping, GltfGlossyDielectricOpacityAndSun) {
   TempDir dir;
   test::Asset a = test::make_asset();
@@ -194,7 +194,7 @@ TEST(FormatMapping, GltfGlossyDielectricOpacityAndSun) {
   plastic["roughnessFactor"] = 0.0;
   plastic["baseColorFactor"] = {0.2, 0.3, 0.8, 0.25};
   a.json["extensions"]["KHR_lights_punctual"]["lights"].push_back(
-      {{"type", "directional"}, {"intensity", 5}, {"color", {1, 0.5, 0.25}}});
+      {{"type", "directional"}, {"intensity", 5 * 683}, {"color", {1, 0.5, 0.25}}});
   a.json["nodes"].push_back({{"name", "sun"},
                              {"rotation", {-std::sqrt(0.5), 0, 0, std::sqrt(0.5)}},
                              {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
@@ -209,7 +209,7 @@ TEST(FormatMapping, GltfGlossyDielectricOpacityAndSun) {
   for (const Light& l : s.lights) {
     if (l.type != LightType::kDirectional) continue;
     ++suns;
-    expect_color(l.irradiance, 5.0f, 2.5f, 1.25f, "directional intensity taken as W/m²");
+    expect_color(l.irradiance, 5.0f, 2.5f, 1.25f, "3415 lux at 683 lm/W is 5 W/m²");
     // −z of a node turned −90° about x points down.
     EXPECT_NEAR(l.direction.y, -1.0f, 1e-5f);
   }

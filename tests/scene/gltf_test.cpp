@@ -88,14 +88,15 @@ void check_asset(const Scene& scene) {
   for (const Light& l : scene.lights) {
     if (l.type == LightType::kSpot) {
       ++spots;
-      EXPECT_EQ(l.intensity, Color(10.0f));
+      // glTF's 10 cd in W/sr: ÷ 683 lm/W.
+      EXPECT_EQ(l.intensity, Color(static_cast<float>(10.0 / 683.0)));
       EXPECT_NEAR(l.cone_half_angle, 0.5f, 1e-6f);
       EXPECT_NEAR(l.range, 7.0f, 1e-6f);
       EXPECT_NEAR(l.position.y, 3.0f, 1e-6f);
       EXPECT_NEAR(l.direction.y, -1.0f, 1e-5f);
     } else if (l.type == LightType::kPoint) {
       ++points;
-      EXPECT_EQ(l.intensity, Color(3.0f, 0.0f, 0.0f));
+      EXPECT_EQ(l.intensity, Color(static_cast<float>(3.0 / 683.0), 0.0f, 0.0f));
       EXPECT_EQ(l.position, vec3(2.0f));
     } else if (l.type == LightType::kArea) {
       ++areas;
@@ -110,6 +111,9 @@ void check_asset(const Scene& scene) {
   EXPECT_EQ(scene.camera->position, vec3(0.0f, 1.0f, 5.0f));
   EXPECT_NEAR(scene.camera->look_at.z, 4.0f, 1e-6f);
   EXPECT_NEAR(scene.camera->fov_y, 0.8f, 1e-6f);
+  // aspectRatio 1.5 shapes the image: the default height, the width 1.5 times it.
+  EXPECT_EQ(scene.settings.height, 512);
+  EXPECT_EQ(scene.settings.width, 768);
 }
 
 TEST(Gltf, RoundTripEmbedded) {
@@ -197,6 +201,63 @@ TEST(Gltf, UsedFromSceneFile) {
   ASSERT_TRUE(scene.camera.has_value());
   EXPECT_NEAR(scene.camera->position.z, 2.5f, 1e-5f);
   EXPECT_EQ(scene.lights.size(), 3u);
+}
+
+// KHR_lights_punctual's definitions: a point light of I candela gives an illuminance of
+// I / d² lux at distance d; a directional light's intensity is its illuminance in lux. With
+// 683 lm/W, the irradiance illum computes from the loaded light (intensity / d², or the
+// irradiance itself) is that illuminance ÷ 683, for every colour channel.
+TEST(Gltf, PunctualLightsArePhotometric) {
+  TempDir dir;
+  Asset a = make_asset();
+  a.json["extensions"]["KHR_lights_punctual"]["lights"] =
+      json::array({{{"type", "point"}, {"intensity", 1366}, {"color", {1, 0.5, 0.25}}},
+                   {{"type", "directional"}, {"intensity", 100000}},
+                   {{"type", "spot"}, {"intensity", 50}, {"spot", {{"outerConeAngle", 0.4}}}}});
+  a.json["nodes"][4]["extensions"]["KHR_lights_punctual"]["light"] = 1;  // "bulb": directional
+  a.json["nodes"][3]["extensions"]["KHR_lights_punctual"]["light"] = 2;  // "spot"
+  a.json["nodes"].push_back({{"name", "lamp"},
+                             {"translation", {0, 4, 0}},
+                             {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  a.json["scenes"][0]["nodes"].push_back(a.json["nodes"].size() - 1);
+  const Scene scene = load_scene(write_gltf(dir, a));
+  int seen = 0;
+  for (const Light& l : scene.lights) {
+    if (l.type == LightType::kPoint) {
+      // 1366 cd at d = 2 m: 341.5 lux, 0.5 W/m² in the red channel (colour scales channels).
+      const float d = 2.0f;
+      const double lux = 1366.0 / (d * d);
+      EXPECT_NEAR(l.intensity.r / (d * d), lux / 683.0, 1e-6);
+      EXPECT_NEAR(l.intensity.g / (d * d), 0.5 * lux / 683.0, 1e-6);
+      EXPECT_NEAR(l.intensity.b / (d * d), 0.25 * lux / 683.0, 1e-6);
+      ++seen;
+    } else if (l.type == LightType::kDirectional) {
+      EXPECT_NEAR(l.irradiance.g, 100000.0 / 683.0, 1e-3) << "full sun, 10⁵ lux";
+      ++seen;
+    } else if (l.type == LightType::kSpot) {
+      EXPECT_NEAR(l.intensity.b, 50.0 / 683.0, 1e-7) << "a spot's intensity is candela too";
+      ++seen;
+    }
+  }
+  EXPECT_EQ(seen, 3);
+}
+
+// The camera's aspectRatio sets the image's width from the height; a ratio that makes the
+// image wider than the commands accept is refused with one line.
+TEST(Gltf, CameraAspectRatioShapesTheImage) {
+  TempDir dir;
+  Asset a = make_asset();
+  a.json["cameras"][0]["perspective"]["aspectRatio"] = 0.5;
+  EXPECT_EQ(load_scene(write_gltf(dir, a)).settings.width, 256);
+  a.json["cameras"][0]["perspective"].erase("aspectRatio");
+  EXPECT_EQ(load_scene(write_gltf(dir, a)).settings.width, 512) << "no ratio: the default";
+  a.json["cameras"][0]["perspective"]["aspectRatio"] = 1000.0;
+  try {
+    load_scene(write_gltf(dir, a));
+    ADD_FAILURE() << "an image 512000 pixels wide was accepted";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), "aspectRatio")) << e.what();
+  }
 }
 
 }  // namespace

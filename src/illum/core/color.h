@@ -10,6 +10,11 @@ namespace illum {
 
 using Color = glm::vec3;  // linear RGB
 
+// Lumens per watt used to turn photometric light units (glTF's candela and lux) into
+// radiometric ones: 683 lm/W, the efficacy at 555 nm that defines the candela, applied to
+// every colour as Blender's glTF importer and exporter do (illum has no spectra to weigh).
+inline constexpr double kLuminousEfficacy = 683.0;
+
 // Rec.709 luminance weights (green 0.7152; S000 §2.6 prints a wrong value, see ALGORITHMS.md 45).
 inline float luminance(const Color& c) {
   return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;

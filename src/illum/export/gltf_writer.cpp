@@ -325,7 +325,8 @@ class ModelBuilder {
       const float largest = max_component(value);
       const Color color = largest > 0.0f ? value / largest : Color(1.0f);
       g.color = {color.r, color.g, color.b};
-      g.intensity = largest;
+      // Photometric, as glTF defines it (cd, lux): the loader's inverse (kLuminousEfficacy).
+      g.intensity = largest * kLuminousEfficacy;
       if (light.range > 0.0f) g.range = light.range;
       if (light.type == LightType::kPoint) {
         g.type = "point";

@@ -9,6 +9,7 @@
 // is charged against a budget proportional to the input, and the node tree is walked without
 // recursion, so no file can exhaust the stack or the memory.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <span>
@@ -17,6 +18,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include "illum/core/color.h"
 #include "illum/core/error.h"
 #include "illum/scene/gltf_accessors.h"
 #include "illum/scene/gltf_structure.h"
@@ -27,6 +29,9 @@
 namespace illum::detail {
 
 namespace {
+
+// The largest image side the commands accept (README: images are limited to 16384 a side).
+constexpr double kMaxGltfImageSide = 16384.0;
 
 using nlohmann::json;
 
@@ -476,6 +481,17 @@ class GltfReader {
         c.fov_y = static_cast<float>(cam.perspective.yfov);
         validate_camera(c, at + " camera");
         scene_.camera = c;
+        // The camera's aspectRatio (checked positive when given) sets the image's shape:
+        // the default height stays, the width follows. Command-line sizes still win.
+        if (cam.perspective.aspectRatio > 0.0) {
+          const double width = std::round(scene_.settings.height * cam.perspective.aspectRatio);
+          if (!(width <= kMaxGltfImageSide))
+            fail(fmt::format("{} camera aspectRatio = {} makes a {} × {} image, wider than {} "
+                             "pixels",
+                             at, cam.perspective.aspectRatio, width, scene_.settings.height,
+                             kMaxGltfImageSide));
+          scene_.settings.width = std::max(1, static_cast<int>(width));
+        }
       }
     }
     if (has_light) {
@@ -559,16 +575,17 @@ class GltfReader {
     }
   }
 
-  // glTF intensities are photometric (cd for point/spot, lux for directional); illum reads
-  // the numbers as radiometric: W/sr for point/spot, W/m² for directional. The spot's outer
-  // cone angle is its hard edge (the inner angle's smooth falloff is not modelled). The
-  // values were checked by check_lights.
+  // glTF intensities are photometric (cd for point/spot, lux for directional); illum's
+  // lights are radiometric (W/sr, W/m²): divided by the luminous efficacy of 683 lm/W, as
+  // Blender's importer does (kLuminousEfficacy). The spot's outer cone angle is its hard
+  // edge (the inner angle's smooth falloff is not modelled). The values were checked by
+  // check_lights.
   void add_light(const tinygltf::Light& gl, int index, const vec3& position, const vec3& forward) {
     Light light;
     light.name = gl.name.empty() ? fmt::format("light{}", index) : gl.name;
     Color color(1.0f);
     if (gl.color.size() == 3) color = Color(gl.color[0], gl.color[1], gl.color[2]);
-    const float intensity = static_cast<float>(gl.intensity);
+    const float intensity = static_cast<float>(gl.intensity / kLuminousEfficacy);
     light.position = position;
     light.direction = forward;
     light.range = static_cast<float>(gl.range);
