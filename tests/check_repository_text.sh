@@ -33,7 +33,7 @@ for path in ${allow[@]+"${allow[@]}"}; do excludes+=(":(exclude)$path"); done
 
 # The character before the path must not continue a longer path or a variable
 # (build/fuzz/work/, $TMPDIR/work/, https://host/home/ are fine).
-paths='(^|[^A-Za-z0-9_.~$}/-])(/home/|/root/|/work/|/tmp/[A-Za-z])'
+paths='(^|[^A-Za-z0-9_.~$}/-])(/(home|root|work)/|/tmp/[A-Za-z])'
 issues='(^|[^A-Za-z])issues? ?#?[0-9]'
 
 status=0
