@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git file
-  libembree-dev libtbb-dev libglm-dev libeigen3-dev libnanoflann-dev
+  libembree-dev libtbb-dev libglm-dev libnanoflann-dev
   libtinygltf-dev libtinyobjloader-dev libstb-dev libopenexr-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libmeshoptimizer-dev
   libvulkan-dev glslc glslang-tools spirv-tools vulkan-validationlayers
