@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <vector>
@@ -13,6 +12,7 @@
 
 #include "baked_display.h"
 #include "commands.h"
+#include "illum/core/file_write.h"
 #include "illum/core/log.h"
 #include "illum/gpu/allocator.h"
 #include "illum/gpu/context.h"
@@ -60,9 +60,8 @@ void list_techniques(const FrameArgs& args) {
     std::fputs(text.c_str(), stdout);
     return;
   }
-  std::ofstream file(args.json);
-  if (!file) throw Error(fmt::format("--json {}: cannot open for writing", args.json));
-  file << text;
+  check_writable_output(args.json);
+  write_file_atomically(args.json, text);
 }
 
 void run_frame(const FrameArgs& args) {
@@ -75,7 +74,9 @@ void run_frame(const FrameArgs& args) {
   if (args.scene.empty()) throw Error("scene is required (or --list)");
   if (args.json_given && args.json.empty())
     throw Error("--json needs a file name (only --list --json prints to stdout)");
+  // Every output is checked before any is written: a bad --json leaves no image behind.
   if (!args.output.empty()) check_output_path(args.output);
+  if (!args.json.empty()) check_writable_output(args.json);
   if (args.frames < 1) throw Error(fmt::format("--frames {} must be ≥ 1", args.frames));
   if (args.warmup < 0) throw Error(fmt::format("--warmup {} must be ≥ 0", args.warmup));
 
@@ -223,9 +224,7 @@ void run_frame(const FrameArgs& args) {
                          {"dedicated", memory.dedicated},
                          {"reserved_bytes", memory.reserved_bytes},
                          {"used_bytes", memory.used_bytes}};
-    std::ofstream file(args.json);
-    if (!file) throw Error(fmt::format("--json {}: cannot open for writing", args.json));
-    file << out.dump(2) << "\n";
+    write_file_atomically(args.json, out.dump(2) + "\n");
   }
   if (!args.output.empty()) std::printf("  wrote %s\n", args.output.c_str());
 }

@@ -45,8 +45,8 @@ void add_view_command(CLI::App& app);
 // (nesting bounded as in core/json_input.h).
 nlohmann::json key_values_to_json(const std::vector<std::string>& items);
 
-// Refuses an output path whose folder does not exist or whose extension is not one of the
-// image formats, before any long work starts.
+// Refuses an output path whose extension is not one of the image formats, whose folder
+// does not exist or is not writable, or whose name is too long, before any long work starts.
 void check_output_path(const std::string& path);
 
 // The scene-loading flags every subcommand that loads a scene takes (--allow-missing-textures).

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "illum/core/error.h"
+#include "illum/core/file_write.h"
 #include "illum/core/image.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/json_input.h"
@@ -61,9 +62,7 @@ nlohmann::json key_values_to_json(const std::vector<std::string>& items) {
 
 void check_output_path(const std::string& path) {
   image_format_from_path(path);  // throws for an unknown extension
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent))
-    throw Error(fmt::format("{}: output folder '{}' does not exist", path, parent.string()));
+  check_writable_output(path);
 }
 
 void add_load_options(CLI::App* cmd, LoadOptions* options) {

@@ -6,14 +6,18 @@
 #include <atomic>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <stb_image_write.h>
+
+#include "illum/core/file_write.h"
 
 namespace illum {
 
@@ -67,7 +71,33 @@ ImageFormat image_format_from_path(const std::string& path) {
 
 namespace {
 
-void write_stb_ldr(const std::string& tmp, ImageFormat format, const Image& image,
+// The encoders write into memory; write_file_atomically then puts the bytes on disk and
+// checks that every one arrived (stb's own fwrite path cannot tell a full disk).
+void append_bytes(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<uint8_t>*>(context);
+  const auto* p = static_cast<const uint8_t*>(data);
+  out->insert(out->end(), p, p + size);
+}
+
+// OpenEXR's output stream, in memory.
+class MemoryOStream : public Imf::OStream {
+ public:
+  explicit MemoryOStream(std::vector<uint8_t>* out) : Imf::OStream("memory"), out_(out) {}
+  void write(const char c[], int n) override {
+    const size_t end = position_ + static_cast<size_t>(n);
+    if (end > out_->size()) out_->resize(end);
+    std::memcpy(out_->data() + position_, c, static_cast<size_t>(n));
+    position_ = end;
+  }
+  uint64_t tellp() override { return position_; }
+  void seekp(uint64_t pos) override { position_ = static_cast<size_t>(pos); }
+
+ private:
+  std::vector<uint8_t>* out_;
+  size_t position_ = 0;
+};
+
+void write_stb_ldr(std::vector<uint8_t>* out, ImageFormat format, const Image& image,
                    const ImageWriteOptions& options, bool* ok) {
   const int n = image.channels();
   std::vector<uint8_t> bytes(image.data().size());
@@ -81,22 +111,22 @@ void write_stb_ldr(const std::string& tmp, ImageFormat format, const Image& imag
     bytes[i] = static_cast<uint8_t>(v * 255.0f + 0.5f);
   }
   if (format == ImageFormat::kPng)
-    *ok = stbi_write_png(tmp.c_str(), image.width(), image.height(), n, bytes.data(),
-                         image.width() * n) != 0;
+    *ok = stbi_write_png_to_func(append_bytes, out, image.width(), image.height(), n, bytes.data(),
+                                 image.width() * n) != 0;
   else
-    *ok = stbi_write_jpg(tmp.c_str(), image.width(), image.height(), n, bytes.data(),
-                         std::clamp(options.jpeg_quality, 1, 100)) != 0;
+    *ok = stbi_write_jpg_to_func(append_bytes, out, image.width(), image.height(), n, bytes.data(),
+                                 std::clamp(options.jpeg_quality, 1, 100)) != 0;
 }
 
-void write_stb_hdr(const std::string& tmp, const Image& image, bool* ok) {
+void write_stb_hdr(std::vector<uint8_t>* out, const Image& image, bool* ok) {
   // RGBE cannot store negative or non-finite values.
   std::vector<float> data(image.data());
   for (float& v : data) v = std::isfinite(v) ? std::max(v, 0.0f) : 0.0f;
-  *ok = stbi_write_hdr(tmp.c_str(), image.width(), image.height(), image.channels(), data.data()) !=
-        0;
+  *ok = stbi_write_hdr_to_func(append_bytes, out, image.width(), image.height(), image.channels(),
+                               data.data()) != 0;
 }
 
-void write_exr(const std::string& tmp, const Image& image, bool half) {
+void write_exr(std::vector<uint8_t>* out, const Image& image, bool half) {
   const int n = image.channels();
   static const char* const kNames[4][4] = {
       {"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
@@ -117,18 +147,12 @@ void write_exr(const std::string& tmp, const Image& image, bool half) {
   for (int c = 0; c < n; ++c)
     fb.insert(names[c], Imf::Slice(type, const_cast<char*>(base + element * static_cast<size_t>(c)),
                                    x_stride, x_stride * static_cast<size_t>(image.width())));
-  Imf::OutputFile file(tmp.c_str(), header);
+  MemoryOStream stream(out);
+  Imf::OutputFile file(stream, header);
   file.setFrameBuffer(fb);
   file.writePixels(image.height());
 }
 
-std::string temporary_path_for(const fs::path& target) {
-  // Same folder (so the rename is atomic), hidden, and unique per process and call.
-  static std::atomic<uint64_t> counter{0};
-  const std::string name =
-      fmt::format(".{}.{}-{}.tmp", target.filename().string(), getpid(), counter++);
-  return (target.parent_path() / name).string();
-}
 
 }  // namespace
 
@@ -141,34 +165,29 @@ void write_image(const std::string& path, const Image& image, const ImageWriteOp
   if (!fs::is_directory(folder, ec))
     throw Error(
         fmt::format("{}: cannot write image: folder '{}' does not exist", path, folder.string()));
-  const std::string tmp = temporary_path_for(target);
+  std::vector<uint8_t> bytes;
   std::string failure;
   try {
     bool ok = true;
     switch (format) {
       case ImageFormat::kPng:
       case ImageFormat::kJpeg:
-        write_stb_ldr(tmp, format, image, options, &ok);
+        write_stb_ldr(&bytes, format, image, options, &ok);
         break;
       case ImageFormat::kHdr:
-        write_stb_hdr(tmp, image, &ok);
+        write_stb_hdr(&bytes, image, &ok);
         break;
       case ImageFormat::kExr:
-        write_exr(tmp, image, options.exr_half);
+        // OutputFile writes its offset table when it is destroyed: scoped here.
+        write_exr(&bytes, image, options.exr_half);
         break;
     }
     if (!ok) failure = "the encoder could not write the file";
   } catch (const std::exception& e) {
     failure = e.what();
   }
-  if (failure.empty()) {
-    fs::rename(tmp, target, ec);
-    if (ec) failure = ec.message();
-  }
-  if (!failure.empty()) {
-    fs::remove(tmp, ec);
-    throw Error(fmt::format("{}: cannot write image ({})", path, failure));
-  }
+  if (!failure.empty()) throw Error(fmt::format("{}: cannot write image ({})", path, failure));
+  write_file_atomically(path, bytes);
 }
 
 }  // namespace illum
