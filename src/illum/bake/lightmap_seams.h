@@ -96,16 +96,24 @@ struct SeamStitchOptions {
 struct SeamStitchStats {
   int64_t samples = 0;  // seam samples (least-squares rows)
   int64_t texels = 0;   // texels the lookups touch (unknowns per channel)
-  int iterations = 0;   // CG iterations (all channels solved together)
+  int iterations = 0;   // CG iterations (all channels solved together), every round
+  int held_at_zero_rounds = 0;  // extra solves with more entries held at zero
+  int64_t held_at_zero = 0;     // texel channels the solve would have made negative
   double seconds = 0.0;
 };
+
+// Solves after the first that hold more texel channels at zero (the active set of the
+// non-negativity constraint) before the stitch gives up and clamps what is left.
+inline constexpr int kMaxNonNegativeRounds = 8;
 
 // Seam stitching: moves the texels under `seams`' lookups so the bilinear values on both
 // sides of every seam sample agree, in the least-squares sense with a regulariser that
 // keeps each texel near its value: minimise over the touched texels x, per channel,
 //   Σ_samples (B₀x − B₁x)² + Σ_texels λ_i (x_i − x⁰_i)²
-// (B_k: the bilinear weights of side k; λ_i from `options`), by conjugate gradients with a
-// Jacobi preconditioner on the normal equations, matrix-free. Every layer (same size) is
+// (B_k: the bilinear weights of side k; λ_i from `options`), subject to x ≥ 0, by
+// conjugate gradients with a Jacobi preconditioner on the normal equations, matrix-free;
+// the constraint by an active set (texel channels driven below zero are held at zero and
+// the rest solved again, kMaxNonNegativeRounds at most). Every layer (same size) is
 // stitched, each channel on its own with the same matrix; texels no lookup touches are
 // left alone. Deterministic.
 // Throws Error for layers not of the raster's size.
