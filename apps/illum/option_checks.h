@@ -62,10 +62,13 @@ class Number : public CLI::Validator {
   }
 
  private:
-  // "in [lo, hi]", or "at least lo" when hi is the type's largest value.
+  // "in [lo, hi]", or "at least lo" when hi is the type's largest value; a float bound of
+  // the smallest normal number reads "positive" (help shows no internal limits).
   static std::string range_text(T lo, T hi) {
-    return hi == std::numeric_limits<T>::max() ? fmt::format("at least {}", lo)
-                                               : fmt::format("in [{}, {}]", lo, hi);
+    const bool positive = std::is_floating_point_v<T> && lo == std::numeric_limits<T>::min();
+    const std::string low = positive ? "positive" : fmt::format("at least {}", lo);
+    if (hi == std::numeric_limits<T>::max()) return low;
+    return positive ? fmt::format("positive, at most {}", hi) : fmt::format("in [{}, {}]", lo, hi);
   }
 };
 

@@ -180,6 +180,16 @@ TEST_F(CliOptionsTest, HelpListsTheKnownOptions) {
   EXPECT_EQ(render.count("--no-preview"), 0u) << "a flag takes no value";
 }
 
+// Help states ranges a user can read: no float limits such as 1.1754944e-38 or 3.4e+38.
+TEST_F(CliOptionsTest, HelpShowsNoInternalBounds) {
+  for (const std::string& sub : subcommands()) {
+    const Result r = run(sub + " --help");
+    EXPECT_EQ(r.exit_code, 0) << sub;
+    for (const char* internal : {"e-38", "e+38", "e-45", "e+308"})
+      EXPECT_EQ(r.out.find(internal), std::string::npos) << "illum " << sub << " --help:\n" << r.out;
+  }
+}
+
 TEST_F(CliOptionsTest, EveryNumericOptionRefusesMalformedNumbers) {
   // 1e99 overflows a float and lies past every double option's range.
   const std::vector<std::string> bad = {"''", "nan", "inf", "-inf", "1e99", "abc", "12x", "0x10"};
