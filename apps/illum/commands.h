@@ -16,10 +16,10 @@ namespace illum::cli {
 void add_info_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_bake_command(CLI::App& app);
-void add_relight_command(CLI::App& app);
+void add_relight_command(CLI::App& app);  // cmd_relight.cpp
 void add_export_command(CLI::App& app);  // cmd_export.cpp
 
-// `illum bake --kind prt` (cmd_prt.cpp): the options it shares with the light-map bake.
+// `illum bake --kind prt` (cmd_bake_prt.cpp): the options it shares with the light-map bake.
 struct PrtBakeRequest {
   std::string scene, output, mode;
   int resolution = 512, spp = 256, bands = 4, threads = 0;
