@@ -9,7 +9,7 @@ const std::vector<TechniqueDecl>& technique_registry() {
   // The one list of techniques. Within a kind, the order is the frame's: add-ons run in
   // this order (tone mapping last).
   static const std::vector<TechniqueDecl> registry = {
-      lighting_technique(), scene_draw_technique(),    forward_technique(),
+      lighting_globals(),   scene_draw_globals(),      forward_technique(),
       deferred_technique(), no_shadows_technique(),    shadow_map_technique(),
       vsm_technique(),      shadow_volume_technique(), baked_technique(),
       ssao_technique(),     luminance_technique(),     bloom_technique(),

@@ -1,4 +1,4 @@
-// The declarations of the built-in techniques, one function per technique file; only
+// The declarations of the built-in techniques and globals, one function per file; only
 // technique_registry.cpp lists them.
 #pragma once
 
@@ -9,8 +9,8 @@
 
 namespace illum::realtime {
 
-TechniqueDecl lighting_technique();       // globals: lighting.cpp
-TechniqueDecl scene_draw_technique();     // globals: scene_draw.cpp
+TechniqueDecl lighting_globals();         // globals: lighting_globals.cpp
+TechniqueDecl scene_draw_globals();       // globals: scene_draw_globals.cpp
 TechniqueDecl forward_technique();        // forward.cpp
 TechniqueDecl deferred_technique();       // deferred.cpp
 TechniqueDecl visibility_technique();     // visibility.cpp

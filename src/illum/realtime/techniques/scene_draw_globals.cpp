@@ -3,7 +3,7 @@
 
 namespace illum::realtime {
 
-TechniqueDecl scene_draw_technique() {
+TechniqueDecl scene_draw_globals() {
   TechniqueDecl t;
   t.name = "scene_draw";
   t.kind = TechniqueKind::kGlobal;

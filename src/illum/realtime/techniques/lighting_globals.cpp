@@ -4,7 +4,7 @@
 
 namespace illum::realtime {
 
-TechniqueDecl lighting_technique() {
+TechniqueDecl lighting_globals() {
   TechniqueDecl t;
   t.name = "lighting";
   t.kind = TechniqueKind::kGlobal;
