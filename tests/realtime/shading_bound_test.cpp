@@ -1,4 +1,4 @@
-// The shading bound (realtime/shading_bound.h, illum-bench raster): a full-screen pass
+// The shading bound (realtime/measure/shading_bound.h, illum-bench raster): a full-screen pass
 // running the forward pass's lighting over a G-buffer of the same view must do the forward
 // pass's lighting work — same function, same pixels, same inputs (its image is the forward
 // image) — and its time must follow that work (more lights, more time).

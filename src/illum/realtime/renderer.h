@@ -19,9 +19,9 @@
 #include "illum/gpu/gpu_timer.h"
 #include "illum/realtime/baked_data.h"
 #include "illum/realtime/gpu_types.h"
+#include "illum/realtime/measure/shading_bound.h"
 #include "illum/realtime/realtime_lights.h"
 #include "illum/realtime/render_settings.h"
-#include "illum/realtime/shading_bound.h"
 #include "illum/scene/scene.h"
 
 namespace illum::realtime {
@@ -52,8 +52,8 @@ class Renderer {
   // include the counting draws: time other frames.
   const std::vector<gpu::PassTime>& measure_work(const Camera& camera);
   // Renders one more frame, then the shading bound of the pipeline's fragment lighting pass
-  // (shading_bound.h: that lighting over a G-buffer of the same view, one full-screen pass
-  // timed `repeats` times; `image`: its output). False where the pipeline has none.
+  // (measure/shading_bound.h: that lighting over a G-buffer of the same view, one full-screen
+  // pass timed `repeats` times; `image`: its output). False where the pipeline has none.
   bool measure_shading(const Camera& camera, int repeats, ShadingTime* out, Image* image = nullptr);
 
   Image hdr();  // linear radiance, RGBA

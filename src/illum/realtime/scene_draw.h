@@ -16,6 +16,7 @@
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_graph.h"
 #include "illum/realtime/gpu_scene.h"
+#include "illum/realtime/measure/counting_pipelines.h"
 #include "illum/realtime/occlusion_culling.h"
 
 namespace illum::realtime {
@@ -25,9 +26,6 @@ namespace illum::realtime {
 // built with it).
 inline constexpr uint32_t kPositionStride = sizeof(vec3);
 gpu::VertexInput mesh_vertex_input(bool position_only);
-// The counting variant of a scene-draw pipeline (SceneDrawer::render_counted): the same
-// vertex stage and attachments, no test, no fragment shader, nothing written.
-gpu::GraphicsPipelineDesc counting_variant(gpu::GraphicsPipelineDesc desc);
 
 struct DrawTargets {
   struct Color {
@@ -48,29 +46,6 @@ struct DrawTargets {
   // (the pass declares it kSampled in kComputeShader besides its attachment use).
   std::string depth_resource;
   uint32_t depth_layer = 0;  // the layer `depth` views, when the resource has several
-};
-
-// What a counting frame draws a scene pass with besides the pass's own pipeline:
-// `rasterized()` (counting_variant: all it rasterizes, untested) and `quads()` — the pass's
-// vertex stage and depth and stencil state with shaders/quad_count.frag, which counts the
-// 2×2 quads holding its passing samples (built on first use: only counting frames on a
-// device with Context::quad_counting draw it).
-class CountingPipelines {
- public:
-  CountingPipelines() = default;
-  CountingPipelines(gpu::Context& context, VkPipelineLayout layout,
-                    const gpu::GraphicsPipelineDesc& pass);
-  const gpu::Pipeline& rasterized() const { return rasterized_; }
-  const gpu::Pipeline& quads(VkPipelineLayout quad_count_layout) const;
-  // Drawing the pass again over its own result passes the same fragments only when the
-  // depth starts cleared or the pass does not write it.
-  bool replays(const DrawTargets& targets) const;
-
- private:
-  gpu::Context* context_ = nullptr;
-  gpu::GraphicsPipelineDesc pass_;
-  gpu::Pipeline rasterized_;
-  mutable gpu::Pipeline quads_;
 };
 
 // What the push constants say about the view: shadow passes name their shadow view and

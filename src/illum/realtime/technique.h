@@ -142,8 +142,8 @@ class FramePipeline : public Technique {
   // What record_masked_light() reads besides the depth test and the HDR target.
   virtual std::vector<Access> masked_light_reads() const { return {}; }
   // After a frame: the shading bound of the pipeline's fragment lighting pass
-  // (shading_bound.h), timed `repeats` times, and with `image` its output. False where the
-  // pipeline has no such pass (its lighting is compute, or the stencil masks each light).
+  // (measure/shading_bound.h), timed `repeats` times, and with `image` its output. False where
+  // the pipeline has no such pass (its lighting is compute, or the stencil masks each light).
   virtual bool measure_shading(int /*repeats*/, ShadingTime* /*out*/, Image* /*image*/) {
     return false;
   }

@@ -4,8 +4,8 @@
 // ambient only and each light is added by record_masked_light().
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
+#include "illum/realtime/measure/shading_bound.h"
 #include "illum/realtime/scene_draw.h"
-#include "illum/realtime/shading_bound.h"
 #include "illum/realtime/stencil_shadows.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"

@@ -1,4 +1,4 @@
-#include "illum/realtime/shading_bound.h"
+#include "illum/realtime/measure/shading_bound.h"
 
 #include <algorithm>
 
