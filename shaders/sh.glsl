@@ -3,7 +3,7 @@
 // l(l+1)+m, z the polar axis of the frame the direction is written in), and the clamped-
 // cosine factors Λ_l of Ramamoorthi & Hanrahan. Kept identical to core/sh.h by
 // tests/gpu/sh_glsl_test.cpp, which runs every function here on the GPU against the C++
-// evaluation, and tests/core/test_sh.cpp, which finds any SH constant spelt out elsewhere.
+// evaluation, and tests/core/sh_test.cpp, which finds any SH constant spelt out elsewhere.
 #ifndef ILLUM_SH_GLSL
 #define ILLUM_SH_GLSL
 

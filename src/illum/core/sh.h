@@ -20,7 +20,7 @@
 // - Evaluation is by recurrences: the normalised associated Legendre recurrence in z for
 //   N_l^m = K_l^m P_l^m / sin^m θ, and C_m + i·S_m = (x + i·y)^m for cos(mφ)·sin^m θ and
 //   sin(mφ)·sin^m θ, so no trigonometric call and no pole singularity. Bands 0–2 also have
-//   a closed-form fast path (checked against the recurrence in tests/core/test_sh.cpp).
+//   a closed-form fast path (checked against the recurrence in tests/core/sh_test.cpp).
 // - Precision: evaluation is a template for float (per-sample work in the bakers, the same
 //   arithmetic as the shaders) and double (projection, references). Quadrature rules,
 //   zonal factors and rotation matrices are computed in double.

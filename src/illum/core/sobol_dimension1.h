@@ -1,5 +1,5 @@
 // Sobol' dimension 1 evaluated with bit operations, for the sampler (sampler.cpp) and its
-// test (tests/core/test_sampler.cpp checks it against the generator matrix column by column).
+// test (tests/core/sampler_test.cpp checks it against the generator matrix column by column).
 #pragma once
 
 #include <cstdint>

@@ -24,7 +24,7 @@ float phong_norm(float n) {
 }
 // Errata: the contract's Blinn factor (n+8)/(8π) is an approximation that reflects up to
 // 6.5% more than it receives at normal incidence for small n (measured by the furnace test
-// in tests/render/test_bsdf.cpp). We use the exact normal-incidence normalization
+// in tests/render/bsdf_test.cpp). We use the exact normal-incidence normalization
 // (n+2)(n+4) / (8π(2^(−n/2) + n)), which tends to (n+8)/(8π) ... (n+6)/(8π) for large n and
 // is 1/π at n = 0.
 float blinn_norm(float n) {

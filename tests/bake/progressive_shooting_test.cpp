@@ -226,7 +226,7 @@ TEST(ProgressiveShooting, RefusesABadThreshold) {
 }
 
 // Two closed unit cubes of albedo a far apart, the second's emission 10⁴× dimmer (the PRT
-// DimRoom test's scene, tests/bake/test_prt_baker.cpp). Each cube on its own is the furnace
+// DimRoom test's scene, tests/bake/prt_baker_test.cpp). Each cube on its own is the furnace
 // above: its exact mean irradiance is E/(1−a). Patches see only their own cube.
 ShootingPatches two_cubes(int m, int* first_of_dim) {
   ShootingPatches bright = cube_patches(m), dim = cube_patches(m);
