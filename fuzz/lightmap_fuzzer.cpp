@@ -1,4 +1,4 @@
-// The baked light-map folder through illum::atlas::load_lightmap_set, then
+// The baked light-map folder through illum::baked::load_lightmap_set, then
 // apply_lightmap_set on the built-in Cornell box, as `illum frame --lightmap` does. The input
 // is the manifest (lightmap.json), optionally followed by kNextFile and the atlas file
 // (atlas.bin); without a second part atlas.bin does not exist. The layers are fixed
@@ -6,7 +6,7 @@
 // tex.png/tex.hdr for manifests that name other images.
 
 #include "fuzz_support.h"
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/image.h"
 #include "illum/scene/load.h"
 
@@ -45,9 +45,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzz::write_file(dir / "lightmap.json", parts[0]);
   fuzz::write_or_remove(dir / "atlas.bin", parts.size() > 1 ? &parts[1] : nullptr);
   fuzz::expect_only_illum_errors([&] {
-    const atlas::LightmapSet set = atlas::load_lightmap_set(dir);
+    const baked::LightmapSet set = baked::load_lightmap_set(dir);
     Scene scene = cornell();
-    atlas::apply_lightmap_set(scene, set);
+    baked::apply_lightmap_set(scene, set);
   });
   return 0;
 }

@@ -6,10 +6,10 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "illum/atlas/lightmap_file.h"
-#include "illum/bake/probe_file.h"
 #include "illum/bake/probe_lookup.h"
-#include "illum/bake/prt_file.h"
+#include "illum/baked/lightmap_file.h"
+#include "illum/baked/probe_file.h"
+#include "illum/baked/prt_file.h"
 #include "illum/core/error.h"
 #include "illum/realtime/baked_lightmap.h"
 
@@ -78,7 +78,7 @@ const BakedKindInfo& folder_kind(const std::string& folder) {
 
 // The set's transfer in the renderer's order: vertices per mesh (the GPU vertex buffer's
 // order) rather than per instance; apply_prt_set made every instance's mesh its own.
-realtime::PrtTransfer prt_transfer(const Scene& scene, bake::PrtSet set) {
+realtime::PrtTransfer prt_transfer(const Scene& scene, baked::PrtSet set) {
   realtime::PrtTransfer prt;
   prt.bands = set.bands;
   prt.width = set.atlas.width;
@@ -103,7 +103,7 @@ realtime::PrtTransfer prt_transfer(const Scene& scene, bake::PrtSet set) {
 
 // The set's grid, irradiance coefficients and validity weights as the renderer reads them
 // (realtime/probe_volume.h), for the instances `scene` marks dynamic.
-realtime::ProbeVolume probe_volume(const bake::ProbeSet& set, const Scene& scene) {
+realtime::ProbeVolume probe_volume(const baked::ProbeSet& set, const Scene& scene) {
   static_assert(realtime::kProbeFloats == bake::kProbeVolumeFloats);
   realtime::ProbeVolume volume;
   volume.size = set.grid.size;
@@ -150,7 +150,7 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
   // Probes first: they were baked for the scene's static part as loaded, before any atlas
   // (which changes the meshes the geometry hash covers) is put on it.
   if (const std::string* probes = given(BakedKind::kProbes)) {
-    display.probes = probe_volume(bake::load_probe_set_for(*probes, scene), scene);
+    display.probes = probe_volume(baked::load_probe_set_for(*probes, scene), scene);
     if (display.probes.empty())
       throw Error(
           fmt::format("--baked {}: probes light only meshes marked \"dynamic\": true, and "
@@ -159,10 +159,10 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
   }
   if (lightmap)
     display.lightmap =
-        realtime::prepare_lightmap_display(scene, atlas::load_lightmap_set(*lightmap));
+        realtime::prepare_lightmap_display(scene, baked::load_lightmap_set(*lightmap));
   if (prt) {
-    bake::PrtSet set = bake::load_prt_set(*prt);
-    bake::apply_prt_set(scene, set);
+    baked::PrtSet set = baked::load_prt_set(*prt);
+    baked::apply_prt_set(scene, set);
     // The transfer holds the light of the add-on's sun (direct and bounced): the scene's own
     // lights would count it twice. Emitters still glow through their materials.
     scene.lights.clear();

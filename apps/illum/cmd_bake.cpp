@@ -1,7 +1,7 @@
 // `illum bake SCENE -o FOLDER`: builds the scene's light-map atlas, bakes a path-traced
 // (`--method path`) or radiosity (`--method radiosity`) light-map in the chosen basis and
 // writes the folder `illum frame --lightmap` and
-// `illum view --lightmap` read (format: atlas/lightmap_file.h).
+// `illum view --lightmap` read (format: baked/lightmap_file.h).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,17 +12,17 @@
 #include "commands.h"
 #include "illum/atlas/atlas.h"
 #include "illum/atlas/atlas_report.h"
-#include "illum/atlas/lightmap_file.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/bake_memory.h"
 #include "illum/bake/lightmap_baker.h"
 #include "illum/bake/lightmap_extras.h"
 #include "illum/bake/lightmap_seams.h"
 #include "illum/bake/probe_baker.h"
-#include "illum/bake/probe_file.h"
 #include "illum/bake/prt_baker.h"
 #include "illum/bake/prt_vq.h"
 #include "illum/bake/radiosity_baker.h"
+#include "illum/baked/lightmap_file.h"
+#include "illum/baked/probe_file.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
@@ -87,7 +87,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // `--kind probes`: an irradiance-probe grid (bake/probe_baker.h) into the folder of
-// bake/probe_file.h. Instances marked dynamic are left out of the traced and hashed geometry.
+// baked/probe_file.h. Instances marked dynamic are left out of the traced and hashed geometry.
 void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
   for (const char* option :
        {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
@@ -95,7 +95,7 @@ void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
     if (cmd.count(option)) throw Error(fmt::format("{} does not apply to --kind probes", option));
   if (cmd.count("--spacing") && !(args.spacing > 0.0f))
     throw Error(fmt::format("--spacing {}: must be > 0 metres", args.spacing));
-  bake::check_probe_output(args.output);  // before the long work, not after
+  baked::check_probe_output(args.output);  // before the long work, not after
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"spacing", "--spacing"}, {"spp", "--spp"}, {"seed", "--seed"}});
   j["spacing"] = args.spacing;
@@ -120,7 +120,7 @@ void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
   const bake::ProbeBake baked = bake::bake_probes(scene, tracer, options);
   if (!writes_output()) return;  // rank 0 of the MPI job holds the probes
   stop_if_interrupted();
-  bake::ProbeSet set;
+  baked::ProbeSet set;
   set.grid = baked.grid;
   set.probes = baked.probes;
   set.backface_threshold = options.backface_threshold;
@@ -133,7 +133,7 @@ void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
               {"rays", baked.stats.rays},
               {"invalid", baked.stats.invalid},
               {"bake_seconds", baked.stats.seconds}};
-  bake::save_probe_set(args.output, set);
+  baked::save_probe_set(args.output, set);
   const glm::ivec3 n = set.grid.size;
   std::fprintf(
       stderr,
@@ -181,7 +181,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   extras_options.seed = args.seed;
   const int threads = threads_for_this_rank(args.threads);
   extras_options.threads = threads;
-  atlas::check_lightmap_output(args.output);  // before the long work, not after
+  baked::check_lightmap_output(args.output);  // before the long work, not after
 
   const bool radiosity = args.method == "radiosity";
   if (!radiosity && args.method != "path")
@@ -251,7 +251,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   const size_t scene_triangles = scene.triangle_count();
 
   auto t0 = std::chrono::steady_clock::now();
-  atlas::LightmapSet set;
+  baked::LightmapSet set;
   set.atlas = atlas::chart_scene(scene, atlas_options);
   report_reused_uv1(scene, set.atlas);
   {
@@ -385,7 +385,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
     set.bake["extras_seconds"] = extras.seconds;
     set.bake["extras_rays"] = extras.rays;
   }
-  atlas::save_lightmap_set(args.output, set);
+  baked::save_lightmap_set(args.output, set);
 
   const std::string denoised =
       baked.denoised ? fmt::format(", denoised in {:.2f}s", baked.denoise_seconds) : "";

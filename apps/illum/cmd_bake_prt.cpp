@@ -1,5 +1,5 @@
 // `illum bake SCENE --kind prt -o FOLDER` (the PRT kind of cmd_bake.cpp's bake command):
-// bakes SH transfer (bake/prt_baker.h) into the folder of bake/prt_file.h, which
+// bakes SH transfer (bake/prt_baker.h) into the folder of baked/prt_file.h, which
 // `illum relight` (cmd_relight.cpp) renders.
 #include <chrono>
 #include <cstdio>
@@ -11,8 +11,8 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_baker.h"
-#include "illum/bake/prt_file.h"
 #include "illum/bake/prt_vq.h"
+#include "illum/baked/prt_file.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/scene/geometry_hash.h"
@@ -30,7 +30,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 void run_prt_bake(const PrtBakeRequest& args) {
-  bake::check_prt_output(args.output);
+  baked::check_prt_output(args.output);
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"resolution", "--resolution"},
                                {"texel_size", "--texel-size"},
@@ -54,7 +54,7 @@ void run_prt_bake(const PrtBakeRequest& args) {
 
   ThreadLimit limit(args.threads);
   Scene scene = load_scene(args.scene, args.load);
-  bake::PrtSet set;
+  baked::PrtSet set;
   set.scene_triangles = scene.triangle_count();
   auto t0 = std::chrono::steady_clock::now();
   set.atlas = atlas::chart_scene(scene, atlas_options);
@@ -116,7 +116,7 @@ void run_prt_bake(const PrtBakeRequest& args) {
                  set.vq.count(), set.vq.iterations, set.vq.max_distance, set.vq.rms_distance,
                  full / packed, vq_seconds);
   }
-  bake::save_prt_set(args.output, set);
+  baked::save_prt_set(args.output, set);
   std::fprintf(stderr,
                "illum: bake %s, prt %d bands %s: atlas %dx%d, %zu texels, %zu vertices, %d spp "
                "in %.2fs (shooting %.2fs, %d rounds, unshot %.2g) -> %s\n",

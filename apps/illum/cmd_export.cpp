@@ -2,12 +2,12 @@
 // carry the baked light-map's uv1 in TEXCOORD_1 and whose materials reference the map
 // (RGBM PNG, MSFT_lightmap), plus the linear OUT.lightmap.exr (export/lightmap_export.h).
 // Every input is checked before anything is written: the output's folder and name, --tone,
-// the folder (atlas/lightmap_file.h), and that it was baked for this scene.
+// the folder (baked/lightmap_file.h), and that it was baked for this scene.
 #include <cstdio>
 #include <memory>
 
 #include "commands.h"
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/log.h"
 #include "illum/export/lightmap_export.h"
 #include "option_checks.h"
@@ -25,7 +25,7 @@ struct ExportArgs {
 void run_export(const ExportArgs& args) {
   exporter::check_export_output(args.output);
   exporter::check_export_options(args.options);
-  const atlas::LightmapSet set = atlas::load_lightmap_set(args.lightmap);
+  const baked::LightmapSet set = baked::load_lightmap_set(args.lightmap);
   Scene scene = load_scene(args.scene, args.load);
   const exporter::LightmapExportResult r =
       exporter::export_gltf_with_lightmap(scene, set, args.output, args.options);

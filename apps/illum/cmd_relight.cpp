@@ -1,5 +1,5 @@
 // `illum relight SCENE --prt FOLDER (--sun X,Y,Z | --env FILE) -o IMAGE`: renders baked PRT
-// transfer (the folder of bake/prt_file.h, written by `illum bake --kind prt`,
+// transfer (the folder of baked/prt_file.h, written by `illum bake --kind prt`,
 // cmd_bake_prt.cpp) under a distant light (bake/prt_relight.h).
 #include <charconv>
 #include <chrono>
@@ -8,8 +8,8 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "illum/bake/prt_file.h"
 #include "illum/bake/prt_relight.h"
+#include "illum/baked/prt_file.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/core/tonemap.h"
@@ -78,11 +78,11 @@ void run_relight(const RelightArgs& args) {
     env->radiance = read_image(args.env, false);
     env->rotation_y = radians(args.rotate);
   }
-  bake::PrtSet set = bake::load_prt_set(args.prt);
+  baked::PrtSet set = baked::load_prt_set(args.prt);
   const bake::ShLight light = sun ? bake::sun_light(set.bands, *sun, Color(args.irradiance))
                                   : bake::environment_light(set.bands, *env);
   Scene scene = load_scene(args.scene, args.load);
-  bake::apply_prt_set(scene, set);
+  baked::apply_prt_set(scene, set);
   log::release();
 
   ThreadLimit limit(args.threads);

@@ -1,7 +1,7 @@
-// Irradiance probes (bake/probe_baker.h, probe_file.h, probe_lookup.h): irradiance at a probe
-// against the path tracer's own radiance integrated independently, a leak test across a thin
-// wall, the validity test inside a closed box, SH-L2 ↔ ambient cube consistency, the folder's
-// round trip and checks, bake identity, determinism, bad options.
+// Irradiance probes (bake/probe_baker.h, baked/probe_file.h, bake/probe_lookup.h): irradiance
+// at a probe against the path tracer's own radiance integrated independently, a leak test
+// across a thin wall, the validity test inside a closed box, SH-L2 ↔ ambient cube consistency,
+// the folder's round trip and checks, bake identity, determinism, bad options.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,8 +13,8 @@
 
 #include "../render/render_test_scenes.h"
 #include "illum/bake/probe_baker.h"
-#include "illum/bake/probe_file.h"
 #include "illum/bake/probe_lookup.h"
+#include "illum/baked/probe_file.h"
 #include "illum/core/rng.h"
 #include "illum/core/sampler.h"
 #include "illum/core/sampling.h"
@@ -164,13 +164,13 @@ Scene two_rooms() {
   return s;
 }
 
-ProbeSet bake_set(const Scene& scene, const RayTracer& tracer, float spacing, int spp) {
+baked::ProbeSet bake_set(const Scene& scene, const RayTracer& tracer, float spacing, int spp) {
   ProbeBakeOptions options;
   options.spacing = spacing;
   options.spp = spp;
   options.progress = false;
   ProbeBake baked = bake_probes(scene, tracer, options);
-  ProbeSet set;
+  baked::ProbeSet set;
   set.grid = baked.grid;
   set.probes = std::move(baked.probes);
   set.scene = scene.name;
@@ -188,7 +188,7 @@ ProbeSet bake_set(const Scene& scene, const RayTracer& tracer, float spacing, in
 TEST(Probes, NoLightLeaksThroughAThinWall) {
   const Scene scene = two_rooms();
   const RayTracer tracer(scene);
-  const ProbeSet set = bake_set(scene, tracer, 0.25f, 64);
+  const baked::ProbeSet set = bake_set(scene, tracer, 0.25f, 64);
   ASSERT_EQ(set.grid.size, glm::ivec3(16, 8, 8));
   EXPECT_NEAR(set.grid.position(7, 0, 0).x, -0.125f, 1e-5f);  // a cell straddles the wall
   double lit_max = 0.0;  // the lit probes next to the wall (x = 0.125), facing it
@@ -236,7 +236,7 @@ TEST(Probes, ValidityRejectsProbesInsideAClosedBox) {
   add_triangles(s, inward_box(vec3(-0.35f), vec3(0.35f), false), mat, "box");
   s.lights.push_back(point_light(vec3(0.0f, 0.8f, 0.6f), 1.0f));
   const RayTracer tracer(s);
-  const ProbeSet set = bake_set(s, tracer, 0.2f, 64);
+  const baked::ProbeSet set = bake_set(s, tracer, 0.2f, 64);
   ASSERT_EQ(set.grid.size, glm::ivec3(10));
   int inside = 0;
   for (int64_t i = 0; i < set.grid.count(); ++i) {
@@ -333,11 +333,11 @@ class ProbeFolder : public ::testing::Test {
 TEST_F(ProbeFolder, RoundTripsAndChecksWhatItReads) {
   const Scene scene = two_rooms();
   const RayTracer tracer(scene);
-  ProbeSet set = bake_set(scene, tracer, 0.5f, 8);
+  baked::ProbeSet set = bake_set(scene, tracer, 0.5f, 8);
   set.bake = {{"spp", 8}};
   const fs::path folder = dir_ / "probes";
-  save_probe_set(folder, set);
-  const ProbeSet back = load_probe_set_for(folder, scene);
+  baked::save_probe_set(folder, set);
+  const baked::ProbeSet back = baked::load_probe_set_for(folder, scene);
   EXPECT_EQ(back.grid.size, set.grid.size);
   EXPECT_EQ(back.grid.origin, set.grid.origin);
   EXPECT_EQ(back.grid.spacing, set.grid.spacing);
@@ -347,17 +347,18 @@ TEST_F(ProbeFolder, RoundTripsAndChecksWhatItReads) {
       std::memcmp(back.probes.data(), set.probes.data(), set.probes.size() * sizeof(ProbeRecord)),
       0);
   // Replacing an earlier probe folder works; an unrelated folder is refused.
-  save_probe_set(folder, set);
+  baked::save_probe_set(folder, set);
   fs::create_directories(dir_ / "other");
-  EXPECT_NE(error_of([&] { save_probe_set(dir_ / "other", set); }).find("not a probe folder"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { baked::save_probe_set(dir_ / "other", set); }).find("not a probe folder"),
+      std::string::npos);
   // Damaged data: truncated, trailing bytes, a NaN, a weight that is not 0 or 1.
   const fs::path bin = folder / "probes.bin";
   const auto bytes = fs::file_size(bin);
   auto damaged = [&](const std::function<void()>& damage, const std::string& needle) {
-    save_probe_set(folder, set);
+    baked::save_probe_set(folder, set);
     damage();
-    const std::string e = error_of([&] { load_probe_set(folder); });
+    const std::string e = error_of([&] { baked::load_probe_set(folder); });
     EXPECT_NE(e.find(needle), std::string::npos) << e;
   };
   damaged([&] { fs::resize_file(bin, bytes - 4); }, "truncated");
@@ -370,7 +371,7 @@ TEST_F(ProbeFolder, RoundTripsAndChecksWhatItReads) {
   damaged([&] { poke(5, std::nanf("")); }, "not finite");
   damaged([&] { poke(46, 0.5f); }, "weight 0.5");
   damaged([&] { fs::remove(bin); }, "cannot open");
-  EXPECT_NE(error_of([&] { load_probe_set(dir_ / "missing"); }).find("does not exist"),
+  EXPECT_NE(error_of([&] { baked::load_probe_set(dir_ / "missing"); }).find("does not exist"),
             std::string::npos);
 }
 
@@ -383,19 +384,19 @@ TEST_F(ProbeFolder, IsRefusedForAnotherSceneButNotForMovedDynamicObjects) {
   const Scene statics = static_part(scene);
   EXPECT_EQ(statics.instances.size(), 2u);
   const RayTracer tracer(statics);
-  ProbeSet set = bake_set(statics, tracer, 0.5f, 4);
+  baked::ProbeSet set = bake_set(statics, tracer, 0.5f, 4);
   const fs::path folder = dir_ / "probes";
-  save_probe_set(folder, set);
-  EXPECT_NO_THROW(load_probe_set_for(folder, scene));
+  baked::save_probe_set(folder, set);
+  EXPECT_NO_THROW(baked::load_probe_set_for(folder, scene));
   scene.instances[size_t(ball)].transform = glm::translate(mat4(1.0f), vec3(-1.0f, 0.0f, 0.0f));
-  EXPECT_NO_THROW(load_probe_set_for(folder, scene));  // moved: still the same static scene
+  EXPECT_NO_THROW(baked::load_probe_set_for(folder, scene));  // moved: still the same static scene
   const std::vector<InstanceCube> cubes = dynamic_instance_cubes(set, scene, &tracer);
   ASSERT_EQ(cubes.size(), 1u);
   EXPECT_GT(cubes[0].weight, 0.0f);
   // Another scene: the wall moved by 1 cm.
   Scene other = two_rooms();
   for (vec3& p : other.meshes[1].positions) p.x += 0.01f;
-  const std::string e = error_of([&] { load_probe_set_for(folder, other); });
+  const std::string e = error_of([&] { baked::load_probe_set_for(folder, other); });
   EXPECT_NE(e.find("baked for scene 'two-rooms'"), std::string::npos) << e;
   EXPECT_NE(e.find("bake it again"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);

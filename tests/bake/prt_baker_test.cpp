@@ -81,7 +81,7 @@ TEST(PrtBaker, OpenPlaneUnderAConstantSkyIsExact) {
     for (size_t v = 0; v < 4; ++v)
       EXPECT_NEAR(apply(&baked.vertex_transfer[0][v * 48], sky), radiance, 1e-5 * radiance);
     // Relit from above: albedo × L at every pixel (the camera sees the plane's inside only).
-    bake::PrtSet set;
+    baked::PrtSet set;
     set.bands = 4;
     set.texel_transfer = baked.texel_transfer;
     set.vertex_transfer = baked.vertex_transfer;

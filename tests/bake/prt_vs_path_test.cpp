@@ -82,7 +82,7 @@ Image relit_from_a_bake(const Scene& scene, const RayTracer& tracer,
   o.progress = false;
   o.vertices = false;
   bake::PrtBake baked = bake::bake_prt(scene, tracer, raster, o);
-  bake::PrtSet set;
+  baked::PrtSet set;
   set.bands = bands;
   set.texel_transfer = std::move(baked.texel_transfer);
   bake::RelightOptions ro;

@@ -55,7 +55,7 @@ glm::dvec3 sun_towards(double azimuth_deg, double elevation_deg) {
   return {std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)};
 }
 
-// The points of an ILLUMPRT block (bake/prt_file.h): header, then points × channels f32.
+// The points of an ILLUMPRT block (baked/prt_file.h): header, then points × channels f32.
 std::vector<float> read_points(const fs::path& file, uint32_t* channels) {
   std::ifstream in(file, std::ios::binary);
   char magic[8];

@@ -169,7 +169,7 @@ class GltfExport : public ::testing::Test {
 
   fs::path dir_;
   Scene loaded_, baked_;
-  atlas::LightmapSet set_;
+  baked::LightmapSet set_;
 };
 
 TEST_F(GltfExport, PlainFolderRoundTripsThroughTheOwnLoader) {

@@ -13,9 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "illum/atlas/atlas.h"
-#include "illum/atlas/lightmap_file.h"
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_baker.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/realtime/baked_lightmap.h"
 #include "illum/realtime/renderer.h"
 #include "illum/render/integrator.h"
@@ -116,7 +116,7 @@ TEST(LightmapDisplay, CornellLightmapFrameMatchesPathTracer) {
   atlas::make_meshes_unique(baked_scene);
   atlas::AtlasOptions atlas_options;
   atlas_options.resolution = 128;
-  atlas::LightmapSet set;
+  baked::LightmapSet set;
   set.atlas = atlas::build_atlas(baked_scene, atlas_options);
   atlas::apply_atlas(baked_scene, set.atlas);
   const RayTracer bake_tracer(baked_scene);
@@ -136,7 +136,7 @@ TEST(LightmapDisplay, CornellLightmapFrameMatchesPathTracer) {
   // Through the folder format, as `illum bake` and `illum frame --lightmap` do.
   TempFolder folder;
   save_lightmap_set(folder.path() / "cornell", set);
-  const atlas::LightmapSet loaded = atlas::load_lightmap_set(folder.path() / "cornell");
+  const baked::LightmapSet loaded = baked::load_lightmap_set(folder.path() / "cornell");
 
   const Scene original = load_scene(ILLUM_DATA_DIR "/scenes/cornell/cornell.illum.json");
   Scene shown = original;

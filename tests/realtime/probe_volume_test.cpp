@@ -399,7 +399,7 @@ TEST(ProbeVolumeMirror, LeakGuardCutsTheLightLeakingThroughAThinWall) {
   volume.origin = baked.grid.origin;
   volume.spacing = vec3(baked.grid.spacing);
   volume.probes = bake::probe_volume_data(baked.probes);
-  bake::ProbeSet set;
+  baked::ProbeSet set;
   set.grid = baked.grid;
   set.probes = std::move(baked.probes);
   ASSERT_NEAR(set.grid.origin.x + 3.0f * set.grid.spacing, -0.125f, 1e-5f);  // the straddling cell

@@ -66,12 +66,6 @@ struct ProbeResult {
 
 }  // namespace
 
-vec3 ProbeGrid::position(int64_t index) const {
-  const int64_t x = index % size.x, y = (index / size.x) % size.y,
-                z = index / (int64_t(size.x) * size.y);
-  return position(int(x), int(y), int(z));
-}
-
 ProbeGrid make_probe_grid(const Bounds3& bounds, float spacing) {
   if (bounds.empty() || !is_finite(bounds.min) || !is_finite(bounds.max))
     throw Error("probe grid: the scene has no finite bounds (no geometry?)");
@@ -144,37 +138,6 @@ Color ambient_cube_error_bound(const float* e) {
     bound[c] = float(b / 4.0 + q);
   }
   return bound;
-}
-
-Scene static_part(const Scene& scene) {
-  Scene out = scene;
-  out.instances.clear();
-  out.meshes.clear();
-  std::vector<int> instance_map(scene.instances.size(), -1);
-  std::vector<int> mesh_map(scene.meshes.size(), -1);
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
-    Instance inst = scene.instances[i];
-    if (inst.dynamic) continue;
-    if (mesh_map[size_t(inst.mesh)] < 0) {
-      mesh_map[size_t(inst.mesh)] = int(out.meshes.size());
-      out.meshes.push_back(scene.meshes[size_t(inst.mesh)]);
-    }
-    inst.mesh = mesh_map[size_t(inst.mesh)];
-    instance_map[i] = int(out.instances.size());
-    out.instances.push_back(inst);
-  }
-  // Area lights follow their instance; those of dynamic objects go with them.
-  out.lights.clear();
-  for (Light light : scene.lights) {
-    if (light.type == LightType::kArea) {
-      if (light.instance < 0 || size_t(light.instance) >= instance_map.size() ||
-          instance_map[size_t(light.instance)] < 0)
-        continue;
-      light.instance = instance_map[size_t(light.instance)];
-    }
-    out.lights.push_back(light);
-  }
-  return out;
 }
 
 std::vector<ProbeRecord> bake_probes_at(const Scene& scene, const RayTracer& tracer,

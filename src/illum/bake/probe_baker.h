@@ -3,7 +3,8 @@
 // SH-L2 (9 coefficients per colour channel) by Monte Carlo with the path tracer's own
 // estimator (render/path_radiance.h), turned into irradiance by zonal convolution with the
 // clamped cosine (core/sh.h, Ramamoorthi–Hanrahan), plus a Source ambient cube and a
-// validity flag. Lookups (trilinear, validity-weighted): probe_lookup.h; folder: probe_file.h.
+// validity flag. Lookups (trilinear, validity-weighted): probe_lookup.h; folder:
+// baked/probe_file.h.
 //
 // Per probe, per sample k (one scrambled Sobol' sequence per probe, seeded from the seed and
 // the probe's grid index, dimensions drawn in the path tracer's order):
@@ -40,6 +41,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "illum/baked/probe_file.h"
 #include "illum/core/color.h"
 #include "illum/core/math.h"
 #include "illum/core/params.h"
@@ -48,37 +50,18 @@
 
 namespace illum::bake {
 
-inline constexpr int kProbeBands = 3;  // SH-L2
-inline constexpr int kProbeCoefficients = 9;
-// A grid whose probe records would take more than this many bytes is refused (make_probe_grid),
-// before anything is allocated: 1 GiB is 5.7 million probes, 30–70 minutes of baking on 2 cores at
-// the default spp (0.3–0.7 s per 1000 probes at 256 spp, docs/probes.md) and far more than the
-// per-object lookups of the renderer need; a finer spacing is almost always a typo.
-inline constexpr double kMaxProbeBytes = double(1u << 30);
+// The probe records and grid are the probe folder's (baked/probe_file.h).
+using baked::kDefaultBackfaceThreshold;
+using baked::kMaxProbeBytes;
+using baked::kProbeBands;
+using baked::kProbeCoefficients;
+using baked::ProbeGrid;
+using baked::ProbeRecord;
+using baked::static_part;
+
 inline constexpr int kMaxProbeSpp = 1 << 20;
-inline constexpr float kDefaultBackfaceThreshold = 0.25f;
 // Default spacing: the longest side of the bounds over this many probes.
 inline constexpr int kDefaultProbesAlongLongestSide = 16;
-
-// One probe as stored (trivially copyable: the bake's records cross MPI ranks as bytes and
-// the data file holds them as they are).
-struct ProbeRecord {
-  float irradiance[kProbeCoefficients * 3];  // E_i RGB, [i][rgb], world frame (pole +z)
-  float cube[6 * 3];                         // E/π at +x, −x, +y, −y, +z, −z, [face][rgb]
-  float backface_fraction;                   // share of directions that hit a back face first
-  float weight;                              // 1 valid, 0 invalid
-};
-static_assert(sizeof(ProbeRecord) == 47 * sizeof(float));
-
-// probes at origin + spacing·(x, y, z), index (z·ny + y)·nx + x (realtime::ProbeVolume's).
-struct ProbeGrid {
-  glm::ivec3 size{0};
-  vec3 origin{0.0f};
-  float spacing = 0.0f;
-  int64_t count() const { return int64_t(size.x) * size.y * size.z; }
-  vec3 position(int x, int y, int z) const { return origin + spacing * vec3(x, y, z); }
-  vec3 position(int64_t index) const;
-};
 
 // The grid over `bounds` with `spacing` (0: the longest side / 16): n = max(1, round(side /
 // spacing)) probes per axis, centred in the bounds, so the outermost probes lie between a
@@ -134,10 +117,5 @@ Color evaluate_ambient_cube(const float* cube, const vec3& n);
 // the axes (Σ b_i n_i (|n_i| − 1), |n_i|(1 − |n_i|) ≤ ¼) and drops Q's off-diagonal terms
 // (|2 Q_ij n_i n_j| ≤ |Q_ij|(n_i² + n_j²) ≤ |Q_ij|).
 Color ambient_cube_error_bound(const float* irradiance);
-
-// A scene copy without the instances marked dynamic: what probes (and their scene_hash)
-// are baked from. Meshes only dynamic instances use stay (unreferenced; the hash covers them,
-// harmlessly, as the same file always loads them).
-Scene static_part(const Scene& scene);
 
 }  // namespace illum::bake

@@ -8,7 +8,7 @@
 
 namespace illum::bake {
 
-ProbeSample lookup_probes(const ProbeSet& set, const vec3& p, const RayTracer* occluders) {
+ProbeSample lookup_probes(const baked::ProbeSet& set, const vec3& p, const RayTracer* occluders) {
   const ProbeGrid& grid = set.grid;
   if (grid.count() < 1 || size_t(grid.count()) != set.probes.size())
     throw Error(fmt::format("probe lookup: {} records for a {}×{}×{} grid", set.probes.size(),
@@ -51,15 +51,15 @@ ProbeSample lookup_probes(const ProbeSet& set, const vec3& p, const RayTracer* o
   return out;
 }
 
-Color lookup_irradiance(const ProbeSet& set, const vec3& p, const vec3& n,
+Color lookup_irradiance(const baked::ProbeSet& set, const vec3& p, const vec3& n,
                         const RayTracer* occluders) {
   const ProbeSample s = lookup_probes(set, p, occluders);
   return irradiance_from_sh(s.irradiance, n);
 }
 
-std::vector<InstanceCube> dynamic_instance_cubes(const ProbeSet& set, const Scene& scene,
+std::vector<InstanceCube> dynamic_instance_cubes(const baked::ProbeSet& set, const Scene& scene,
                                                  const RayTracer* occluders) {
-  check_probe_scene(scene, set);
+  baked::check_probe_scene(scene, set);
   std::vector<InstanceCube> out;
   for (const int i : dynamic_instances(scene)) {
     const Instance& inst = scene.instances[size_t(i)];

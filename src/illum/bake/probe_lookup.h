@@ -1,4 +1,4 @@
-// CPU lookups in a baked probe grid (probe_file.h).
+// CPU lookups in a baked probe grid (baked/probe_file.h).
 //
 // Lookup at a point p: the 8 probes of the grid cell around p (p clamped into the grid),
 // each with its trilinear weight × its validity weight (0 for an invalid probe) × (with
@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "illum/bake/probe_file.h"
+#include "illum/baked/probe_file.h"
 #include "illum/trace/ray_tracer.h"
 
 namespace illum::bake {
@@ -27,9 +27,10 @@ struct ProbeSample {
 };
 
 // `occluders`: a tracer of the set's static geometry, or nullptr for no visibility test.
-ProbeSample lookup_probes(const ProbeSet& set, const vec3& p, const RayTracer* occluders = nullptr);
+ProbeSample lookup_probes(const baked::ProbeSet& set, const vec3& p,
+                          const RayTracer* occluders = nullptr);
 // E(n) at p from the interpolated coefficients (W/m²; ÷π for a white Lambertian's radiance).
-Color lookup_irradiance(const ProbeSet& set, const vec3& p, const vec3& n,
+Color lookup_irradiance(const baked::ProbeSet& set, const vec3& p, const vec3& n,
                         const RayTracer* occluders = nullptr);
 
 // One ambient cube per dynamic instance at the centre of its world bounds (validity- and,
@@ -41,7 +42,7 @@ struct InstanceCube {
   Color cube[6];
   float weight = 0.0f;  // ProbeSample::weight (0: no usable probe, black)
 };
-std::vector<InstanceCube> dynamic_instance_cubes(const ProbeSet& set, const Scene& scene,
+std::vector<InstanceCube> dynamic_instance_cubes(const baked::ProbeSet& set, const Scene& scene,
                                                  const RayTracer* occluders = nullptr);
 
 // The records as the real-time renderer reads them (realtime::ProbeVolume::probes, without

@@ -266,25 +266,6 @@ void bake_direct(const RayTracer& tracer, std::span<const BakePoint> points,
 
 }  // namespace
 
-const char* to_string(PrtMode mode) {
-  switch (mode) {
-    case PrtMode::kUnshadowed:
-      return "unshadowed";
-    case PrtMode::kShadowed:
-      return "shadowed";
-    case PrtMode::kInterreflected:
-      return "interreflected";
-  }
-  return "?";
-}
-
-PrtMode prt_mode_from_string(const std::string& name) {
-  if (name == "unshadowed") return PrtMode::kUnshadowed;
-  if (name == "shadowed") return PrtMode::kShadowed;
-  if (name == "interreflected") return PrtMode::kInterreflected;
-  throw Error(fmt::format("unknown PRT mode '{}' (unshadowed, shadowed or interreflected)", name));
-}
-
 void PrtBakeOptions::validate() const {
   if (bands < kMinPrtBands || bands > kMaxPrtBands)
     throw Error(fmt::format("PRT bake: bands = {} must lie in [{}, {}]", bands, kMinPrtBands,
@@ -572,6 +553,20 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
   bake.rays = rays.load();
   bake.seconds = seconds_since(start);
   return bake;
+}
+
+nlohmann::json shooting_record(const PrtBake& baked) {
+  const TransferShotShares& s = baked.shot_shares;
+  return {{"shoot_rounds", baked.shoot_rounds},
+          {"unshot_fraction", baked.unshot_fraction},
+          {"relative_unshot", baked.relative_unshot},
+          {"shot_shares",
+           {{"front", s.front},
+            {"back", s.back},
+            {"escaped", s.escaped},
+            {"lost", s.lost},
+            {"below", s.below}}},
+          {"back_sides", baked.back_sides}};
 }
 
 }  // namespace illum::bake

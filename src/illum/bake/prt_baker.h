@@ -27,6 +27,7 @@
 
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/prt_shooting.h"
+#include "illum/baked/prt_file.h"
 #include "illum/core/image.h"
 #include "illum/core/params.h"
 #include "illum/scene/scene.h"
@@ -34,12 +35,13 @@
 
 namespace illum::bake {
 
-enum class PrtMode { kUnshadowed, kShadowed, kInterreflected };
-const char* to_string(PrtMode mode);
-PrtMode prt_mode_from_string(const std::string& name);  // unshadowed|shadowed|interreflected
-
-inline constexpr int kMinPrtBands = 2;
-inline constexpr int kMaxPrtBands = 8;
+// The transfer's data types are the PRT folder's (baked/prt_file.h).
+using baked::kMaxPrtBands;
+using baked::kMinPrtBands;
+using baked::prt_mode_from_string;
+using baked::PrtMode;
+using baked::to_string;
+using baked::TransferMap;
 
 struct PrtBakeOptions {
   int bands = 4;  // 2..8 (n² coefficients)
@@ -79,22 +81,6 @@ struct PrtBakeOptions {
   void validate() const;  // the same ranges; throws Error
 };
 
-// A raster of transfer vectors (core Image holds at most 4 channels; this holds 3·bands²).
-struct TransferMap {
-  int width = 0, height = 0, channels = 0;
-  std::vector<float> data;  // row-major, `channels` floats per texel
-  TransferMap() = default;
-  TransferMap(int w, int h, int c)
-      : width(w), height(h), channels(c), data(size_t(w) * size_t(h) * size_t(c), 0.0f) {}
-  bool empty() const { return data.empty(); }
-  float* pixel(int x, int y) {
-    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
-  }
-  const float* pixel(int x, int y) const {
-    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
-  }
-};
-
 // Transfer vectors, each coefficient_count(bands) RGB triples laid out [point][i][rgb].
 struct PrtBake {
   int bands = 0;
@@ -120,6 +106,10 @@ struct PrtBake {
   size_t texels = 0;  // covered texels baked
   size_t vertices = 0;
 };
+
+// The shooting's figures for a manifest's "bake" object: shoot_rounds, unshot_fraction,
+// relative_unshot, shot_shares {front, back, escaped, lost, below} and back_sides.
+nlohmann::json shooting_record(const PrtBake& baked);
 
 // The patches the interreflected mode shoots between, and where a hit lands: one per covered
 // texel of `raster` (area: the world area of the texel's part of the charts, by clipping

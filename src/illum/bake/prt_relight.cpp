@@ -123,8 +123,8 @@ TexelTaps bilinear_texel_taps(vec2 uv1, int width, int height) {
   return taps;
 }
 
-Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, const ShLight& light,
-              const Camera& camera, const RelightOptions& options) {
+Image relight(const Scene& scene, const RayTracer& tracer, const baked::PrtSet& set,
+              const ShLight& light, const Camera& camera, const RelightOptions& options) {
   check_light(light, set.bands);
   if (options.lookup == PrtLookup::kTexels && set.texel_transfer.empty())
     throw Error(fmt::format("{}: holds no texel transfer", set.folder));

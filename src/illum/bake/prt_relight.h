@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "illum/bake/prt_file.h"
+#include "illum/baked/prt_file.h"
 #include "illum/core/color.h"
 #include "illum/core/image.h"
 #include "illum/scene/camera.h"
@@ -64,8 +64,8 @@ TexelTaps bilinear_texel_taps(vec2 uv1, int width, int height);
 // bilinear lookup in the (dilated) texel transfer at uv1, or barycentric interpolation of the
 // vertex transfer. Throws Error if the set lacks the chosen lookup's data or the light's
 // band count differs from the set's.
-Image relight(const Scene& scene, const RayTracer& tracer, const PrtSet& set, const ShLight& light,
-              const Camera& camera, const RelightOptions& options);
+Image relight(const Scene& scene, const RayTracer& tracer, const baked::PrtSet& set,
+              const ShLight& light, const Camera& camera, const RelightOptions& options);
 
 // What each pixel of a width × height image from `camera` sees over its whole footprint, by
 // rays on a 9×9 grid spanning the pixel, edges included: kMiss (a ray missed), kSurface (all

@@ -10,25 +10,19 @@
 #include <span>
 #include <vector>
 
+#include "illum/baked/prt_file.h"
+
 namespace illum::bake {
 
-inline constexpr int kMaxVqRepresentatives = 1 << 16;
+// The codebook is the PRT folder's (baked/prt_file.h).
+using baked::kMaxVqRepresentatives;
+using baked::VqCodebook;
 
 struct VqOptions {
   int representatives = 4096;  // 1..2¹⁶; fewer when there are fewer vectors
   int patience = 3;
   int max_iterations = 200;  // a guard; the seed's rule stops far earlier in practice
   uint64_t seed = 0;         // which vectors start as representatives
-};
-
-struct VqCodebook {
-  int dimension = 0;
-  std::vector<float> representatives;  // count × dimension
-  std::vector<uint16_t> indices;       // one per vector: its nearest representative
-  int iterations = 0;
-  double max_distance = 0.0;  // max over vectors of |v − r(v)| (Euclidean)
-  double rms_distance = 0.0;
-  int count() const { return dimension ? int(representatives.size() / size_t(dimension)) : 0; }
 };
 
 // `vectors` holds n × dimension floats. Throws Error for representatives outside 1..2¹⁶, a

@@ -65,7 +65,7 @@ void check_export_options(const LightmapExportOptions& options) {
         fmt::format("--rgbm-range {} must be ≥ 0 and finite (0: automatic)", options.rgbm_range));
 }
 
-Image lightmap_irradiance(const atlas::LightmapSet& set, std::string* description) {
+Image lightmap_irradiance(const baked::LightmapSet& set, std::string* description) {
   ILLUM_CHECK(!set.layers.empty(), "light-map set without layers");
   const Image& first = set.layers[0];
   Image out(first.width(), first.height(), 3);
@@ -108,12 +108,12 @@ std::vector<uint8_t> encode_rgbm_image(const Image& image, float range) {
   return bytes;
 }
 
-LightmapExportResult export_gltf_with_lightmap(Scene& scene, const atlas::LightmapSet& set,
+LightmapExportResult export_gltf_with_lightmap(Scene& scene, const baked::LightmapSet& set,
                                                const fs::path& glb,
                                                const LightmapExportOptions& options) {
   check_export_output(glb);
   check_export_options(options);
-  atlas::apply_lightmap_set(scene, set);  // refuses another scene's set, scene unchanged
+  baked::apply_lightmap_set(scene, set);  // refuses another scene's set, scene unchanged
 
   LightmapExportResult result;
   result.glb = glb;

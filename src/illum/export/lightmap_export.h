@@ -2,7 +2,7 @@
 // binary (gltf_writer.h) plus the linear EXR beside it.
 //
 //   OUT.glb            the scene with the folder's atlas applied exactly as the real-time
-//                      renderer applies it (atlas::apply_lightmap_set: the same make_meshes_
+//                      renderer applies it (baked::apply_lightmap_set: the same make_meshes_
 //                      unique + apply_atlas, refused for a folder baked for another scene), so
 //                      TEXCOORD_1 is the baked uv1; every material references the light-map
 //                      through MSFT_lightmap (texCoord 1) as an RGBM PNG embedded in the GLB
@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/image.h"
 #include "illum/export/gltf_writer.h"
 #include "illum/scene/scene.h"
@@ -60,13 +60,13 @@ void check_export_options(const LightmapExportOptions& options);
 
 // The irradiance map E/π of a set (see the top of this file); `description` receives what it
 // was made of.
-Image lightmap_irradiance(const atlas::LightmapSet& set, std::string* description = nullptr);
+Image lightmap_irradiance(const baked::LightmapSet& set, std::string* description = nullptr);
 // RGBA bytes of `image` (RGB) in RGBM with range `range`, negative values taken as 0.
 std::vector<uint8_t> encode_rgbm_image(const Image& image, float range);
 
 // Applies `set` to `scene` (Error, scene unchanged, when it was baked for another scene),
 // then writes OUT.glb and OUT.lightmap.exr as described above.
-LightmapExportResult export_gltf_with_lightmap(Scene& scene, const atlas::LightmapSet& set,
+LightmapExportResult export_gltf_with_lightmap(Scene& scene, const baked::LightmapSet& set,
                                                const std::filesystem::path& glb,
                                                const LightmapExportOptions& options = {});
 

@@ -26,7 +26,7 @@ struct Lightmap {
   std::vector<Image> layers;
 };
 
-// Baked PRT transfer (bake/prt_file.h) for display: RGB SH vectors T of bands² coefficients,
+// Baked PRT transfer (baked/prt_file.h) for display: RGB SH vectors T of bands² coefficients,
 // [point][coefficient][rgb], with E/π = Σ_i T_i·L_i under distant light of world-space SH
 // radiance L_i (core/sh.h). The `baked` add-on shows albedo × max(Σ T_i L_i, 0) in place of
 // the ambient term, L_i its sun projected to SH each frame, through one of the lookups of

@@ -6,8 +6,8 @@
 
 namespace illum::realtime {
 
-Lightmap prepare_lightmap_display(Scene& scene, const atlas::LightmapSet& set) {
-  atlas::apply_lightmap_set(scene, set);
+Lightmap prepare_lightmap_display(Scene& scene, const baked::LightmapSet& set) {
+  baked::apply_lightmap_set(scene, set);
   if (set.content == "all") {
     scene.lights.clear();
   } else {

@@ -1,5 +1,5 @@
 // The folder `illum bake --kind prt` writes and `illum relight` reads: baked PRT transfer
-// (bake/prt_baker.h). Format, version 1 (docs/prt.md):
+// (bake/prt_baker.h) and its data types. Format, version 1 (docs/prt.md):
 //   prt.json      manifest: format "illum-prt", version 1, bands, mode, coefficients
 //                 (bands²), scene name, scene_triangles, scene_hash (geometry_hash of the
 //                 scene with the atlas applied, as the light-map folder records it), atlas
@@ -29,12 +29,46 @@
 #include <nlohmann/json.hpp>
 
 #include "illum/atlas/atlas.h"
-#include "illum/bake/prt_baker.h"
-#include "illum/bake/prt_vq.h"
 #include "illum/core/image.h"
 #include "illum/scene/scene.h"
 
-namespace illum::bake {
+namespace illum::baked {
+
+enum class PrtMode { kUnshadowed, kShadowed, kInterreflected };
+const char* to_string(PrtMode mode);
+PrtMode prt_mode_from_string(const std::string& name);  // unshadowed|shadowed|interreflected
+
+inline constexpr int kMinPrtBands = 2;
+inline constexpr int kMaxPrtBands = 8;
+
+// A raster of transfer vectors (core Image holds at most 4 channels; this holds 3·bands²).
+struct TransferMap {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> data;  // row-major, `channels` floats per texel
+  TransferMap() = default;
+  TransferMap(int w, int h, int c)
+      : width(w), height(h), channels(c), data(size_t(w) * size_t(h) * size_t(c), 0.0f) {}
+  bool empty() const { return data.empty(); }
+  float* pixel(int x, int y) {
+    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
+  }
+  const float* pixel(int x, int y) const {
+    return &data[(size_t(y) * size_t(width) + size_t(x)) * size_t(channels)];
+  }
+};
+
+inline constexpr int kMaxVqRepresentatives = 1 << 16;
+
+// A VQ-compressed transfer map (bake/prt_vq.h: vq_compress).
+struct VqCodebook {
+  int dimension = 0;
+  std::vector<float> representatives;  // count × dimension
+  std::vector<uint16_t> indices;       // one per vector: its nearest representative
+  int iterations = 0;
+  double max_distance = 0.0;  // max over vectors of |v − r(v)| (Euclidean)
+  double rms_distance = 0.0;
+  int count() const { return dimension ? int(representatives.size() / size_t(dimension)) : 0; }
+};
 
 struct PrtSet {
   atlas::Atlas atlas;
@@ -42,7 +76,7 @@ struct PrtSet {
   PrtMode mode = PrtMode::kShadowed;
   TransferMap texel_transfer;                       // empty: no texels baked
   std::vector<std::vector<float>> vertex_transfer;  // empty: no vertices baked
-  // VQ-compressed texel transfer (prt_vq.h): one index per texel of the atlas, row-major;
+  // VQ-compressed texel transfer (bake/prt_vq.h): one index per texel of the atlas, row-major;
   // count() == 0 when the bake was not compressed.
   VqCodebook vq;
   std::string scene;
@@ -63,8 +97,4 @@ PrtSet load_prt_set(const std::filesystem::path& folder);
 // match; throws Error (one line naming the folder) and leaves `scene` unchanged otherwise.
 void apply_prt_set(Scene& scene, const PrtSet& set);
 
-// The shooting's figures for a manifest's "bake" object: shoot_rounds, unshot_fraction,
-// relative_unshot, shot_shares {front, back, escaped, lost, below} and back_sides.
-nlohmann::json shooting_record(const PrtBake& baked);
-
-}  // namespace illum::bake
+}  // namespace illum::baked

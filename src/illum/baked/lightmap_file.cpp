@@ -1,4 +1,4 @@
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "illum/core/tonemap.h"
 #include "illum/scene/geometry_hash.h"
 
-namespace illum::atlas {
+namespace illum::baked {
 
 namespace fs = std::filesystem;
 
@@ -187,7 +187,7 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
       layers.push_back(layer_name(i));
     }
     write_image((staging / "preview.png").string(), preview_of(set.layers[0]));
-    save_atlas(set.atlas, staging / kAtlasFile);
+    atlas::save_atlas(set.atlas, staging / kAtlasFile);
     nlohmann::json extras = nlohmann::json::object();
     for (const LightmapExtra& e : set.extras) {
       write_image((staging / extra_file_name(e.name)).string(), e.image, exr);
@@ -303,7 +303,7 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
                               expected, layers.size()));
   std::vector<std::string> names;
   for (const nlohmann::json& layer : layers) names.push_back(manifest.file_name("layers", layer));
-  set.atlas = load_atlas(folder / manifest.file_name("atlas", manifest.at("atlas")));
+  set.atlas = atlas::load_atlas(folder / manifest.file_name("atlas", manifest.at("atlas")));
   // The recorded size and chart count must be the atlas's: a manifest beside another
   // folder's atlas.bin is refused, not shown with the wrong coordinates.
   if (manifest.unsigned_integer("width", 1u << 30) != uint64_t(set.atlas.width) ||
@@ -374,8 +374,8 @@ void apply_lightmap_set(Scene& scene, const LightmapSet& set) {
   std::vector<Mesh> meshes = scene.meshes;
   std::vector<Instance> instances = scene.instances;
   try {
-    make_meshes_unique(scene);
-    apply_atlas(scene, set.atlas);
+    atlas::make_meshes_unique(scene);
+    atlas::apply_atlas(scene, set.atlas);
     const std::string hash = geometry_hash_hex(scene);
     if (hash != set.scene_hash)
       throw Error(fmt::format(
@@ -389,4 +389,4 @@ void apply_lightmap_set(Scene& scene, const LightmapSet& set) {
   }
 }
 
-}  // namespace illum::atlas
+}  // namespace illum::baked

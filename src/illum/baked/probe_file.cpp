@@ -1,4 +1,4 @@
-#include "illum/bake/probe_file.h"
+#include "illum/baked/probe_file.h"
 
 #include <cmath>
 #include <cstring>
@@ -6,12 +6,12 @@
 
 #include <fmt/format.h>
 
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/error.h"
 #include "illum/core/json_input.h"
 #include "illum/scene/geometry_hash.h"
 
-namespace illum::bake {
+namespace illum::baked {
 
 namespace fs = std::filesystem;
 
@@ -66,8 +66,45 @@ glm::dvec3 triple(const nlohmann::json& j, const char* key, const std::string& w
 
 }  // namespace
 
+vec3 ProbeGrid::position(int64_t index) const {
+  const int64_t x = index % size.x, y = (index / size.x) % size.y,
+                z = index / (int64_t(size.x) * size.y);
+  return position(int(x), int(y), int(z));
+}
+
+Scene static_part(const Scene& scene) {
+  Scene out = scene;
+  out.instances.clear();
+  out.meshes.clear();
+  std::vector<int> instance_map(scene.instances.size(), -1);
+  std::vector<int> mesh_map(scene.meshes.size(), -1);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    Instance inst = scene.instances[i];
+    if (inst.dynamic) continue;
+    if (mesh_map[size_t(inst.mesh)] < 0) {
+      mesh_map[size_t(inst.mesh)] = int(out.meshes.size());
+      out.meshes.push_back(scene.meshes[size_t(inst.mesh)]);
+    }
+    inst.mesh = mesh_map[size_t(inst.mesh)];
+    instance_map[i] = int(out.instances.size());
+    out.instances.push_back(inst);
+  }
+  // Area lights follow their instance; those of dynamic objects go with them.
+  out.lights.clear();
+  for (Light light : scene.lights) {
+    if (light.type == LightType::kArea) {
+      if (light.instance < 0 || size_t(light.instance) >= instance_map.size() ||
+          instance_map[size_t(light.instance)] < 0)
+        continue;
+      light.instance = instance_map[size_t(light.instance)];
+    }
+    out.lights.push_back(light);
+  }
+  return out;
+}
+
 void check_probe_output(const fs::path& folder) {
-  const fs::path target = atlas::bake_output_folder(folder);
+  const fs::path target = bake_output_folder(folder);
   if (!fs::is_directory(target.parent_path()))
     throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
                             target.parent_path().string()));
@@ -83,7 +120,7 @@ void save_probe_set(const fs::path& folder, const ProbeSet& set) {
   check_probe_output(folder);
   int64_t valid = 0;
   for (const ProbeRecord& r : set.probes) valid += r.weight > 0.0f ? 1 : 0;
-  atlas::write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
+  write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
     std::ofstream out(staging / kDataFile, std::ios::binary);
     const uint64_t points = set.probes.size();
     out.write(kMagic, 8);
@@ -225,4 +262,4 @@ ProbeSet load_probe_set_for(const fs::path& folder, const Scene& scene) {
   return set;
 }
 
-}  // namespace illum::bake
+}  // namespace illum::baked

@@ -5,7 +5,7 @@
 //                   geometry_hash of the scene with the atlas applied, 16 hex digits:
 //                   scene/geometry_hash.h), and the bake's own numbers (spp, seconds,
 //                   rays, ...) under "bake"
-//   atlas.bin       the atlas (atlas.h: save_atlas), needed to put uv1 on the scene again
+//   atlas.bin       the atlas (atlas/atlas.h: save_atlas), needed to put uv1 on the scene again
 //   layer0.exr ...  linear RGB layers (half floats), meaning per basis as in
 //                   bake/lightmap_baker.h
 //   preview.png     layer 0 tone-mapped, for people
@@ -27,7 +27,7 @@
 #include "illum/atlas/atlas.h"
 #include "illum/core/image.h"
 
-namespace illum::atlas {
+namespace illum::baked {
 
 // An extra map (bake/lightmap_extras.h): ao, obscurance, obscurance_color (values in
 // [0, 1], grey for the first two) or bent_normal (world-space unit xyz in [−1, 1]; 0 at
@@ -42,7 +42,7 @@ struct LightmapExtra {
 bool is_lightmap_extra_name(const std::string& name);
 
 struct LightmapSet {
-  Atlas atlas;
+  atlas::Atlas atlas;
   std::string basis = "plain";  // plain | rnm | sh | dominant
   std::string content = "all";  // all | indirect
   std::vector<Image> layers;    // 1 (plain), 3 (rnm) or 4 (sh), all atlas-sized RGB
@@ -85,4 +85,4 @@ LightmapSet load_lightmap_set(const std::filesystem::path& folder);
 // leaves `scene` unchanged when the set was baked for another scene or records no hash.
 void apply_lightmap_set(Scene& scene, const LightmapSet& set);
 
-}  // namespace illum::atlas
+}  // namespace illum::baked

@@ -9,10 +9,10 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/error.h"
 
-namespace illum::atlas {
+namespace illum::baked {
 namespace {
 
 namespace fs = std::filesystem;
@@ -152,4 +152,4 @@ TEST_F(LightmapExtrasFolder, BadExtrasAreNotSaved) {
 }
 
 }  // namespace
-}  // namespace illum::atlas
+}  // namespace illum::baked

@@ -1,4 +1,5 @@
-// The folder `illum bake --kind probes` writes: an irradiance-probe grid (probe_baker.h).
+// The folder `illum bake --kind probes` writes: an irradiance-probe grid (bake/probe_baker.h)
+// and its records.
 // Format, version 1 (docs/probes.md):
 //   probes.json  manifest: format "illum-probes", version 1, scene (name), scene_triangles
 //                and scene_hash (geometry_hash of the scene's static part, bake/probe_baker.h
@@ -12,7 +13,7 @@
 //                ([i][rgb], i = l(l+1)+m, world frame, pole +z, core/sh.h), 18 ambient-cube
 //                values E/π ([face][rgb], faces +x, −x, +y, −y, +z, −z), the back-face
 //                share, the weight (1 valid, 0 invalid); nothing may follow
-// Written whole or not at all (atlas::write_bake_folder); an existing folder is replaced
+// Written whole or not at all (write_bake_folder, lightmap_file.h); an existing folder is replaced
 // only when it holds an earlier probe set (a probes.json).
 #pragma once
 
@@ -22,10 +23,45 @@
 
 #include <nlohmann/json.hpp>
 
-#include "illum/bake/probe_baker.h"
+#include "illum/core/math.h"
 #include "illum/scene/scene.h"
 
-namespace illum::bake {
+namespace illum::baked {
+
+inline constexpr int kProbeBands = 3;  // SH-L2
+inline constexpr int kProbeCoefficients = 9;
+// A grid whose probe records would take more than this many bytes is refused
+// (bake/probe_baker.h: make_probe_grid), before anything is allocated: 1 GiB is 5.7 million
+// probes, 30–70 minutes of baking on 2 cores at the default spp (0.3–0.7 s per 1000 probes at
+// 256 spp, docs/probes.md) and far more than the per-object lookups of the renderer need; a
+// finer spacing is almost always a typo.
+inline constexpr double kMaxProbeBytes = double(1u << 30);
+inline constexpr float kDefaultBackfaceThreshold = 0.25f;
+
+// One probe as stored (trivially copyable: the bake's records cross MPI ranks as bytes and
+// the data file holds them as they are).
+struct ProbeRecord {
+  float irradiance[kProbeCoefficients * 3];  // E_i RGB, [i][rgb], world frame (pole +z)
+  float cube[6 * 3];                         // E/π at +x, −x, +y, −y, +z, −z, [face][rgb]
+  float backface_fraction;                   // share of directions that hit a back face first
+  float weight;                              // 1 valid, 0 invalid
+};
+static_assert(sizeof(ProbeRecord) == 47 * sizeof(float));
+
+// probes at origin + spacing·(x, y, z), index (z·ny + y)·nx + x (realtime::ProbeVolume's).
+struct ProbeGrid {
+  glm::ivec3 size{0};
+  vec3 origin{0.0f};
+  float spacing = 0.0f;
+  int64_t count() const { return int64_t(size.x) * size.y * size.z; }
+  vec3 position(int x, int y, int z) const { return origin + spacing * vec3(x, y, z); }
+  vec3 position(int64_t index) const;
+};
+
+// A scene copy without the instances marked dynamic: what probes (and their scene_hash)
+// are baked from. Meshes only dynamic instances use stay (unreferenced; the hash covers them,
+// harmlessly, as the same file always loads them).
+Scene static_part(const Scene& scene);
 
 struct ProbeSet {
   ProbeGrid grid;
@@ -51,4 +87,4 @@ void check_probe_scene(const Scene& scene, const ProbeSet& set);
 // load_probe_set, then check_probe_scene: the reader that takes a scene.
 ProbeSet load_probe_set_for(const std::filesystem::path& folder, const Scene& scene);
 
-}  // namespace illum::bake
+}  // namespace illum::baked

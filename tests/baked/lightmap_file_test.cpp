@@ -12,12 +12,12 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/error.h"
 #include "illum/scene/geometry_hash.h"
 #include "illum/scene/load.h"
 
-namespace illum::atlas {
+namespace illum::baked {
 namespace {
 
 namespace fs = std::filesystem;
@@ -168,12 +168,12 @@ TEST_F(LightmapFolder, AtlasFileIsChecked) {
 TEST(LightmapSetApply, RefusedSetsLeaveTheSceneUnchanged) {
   const Scene loaded = load_scene(ILLUM_DATA_DIR "/scenes/cornell/cornell.illum.json");
   Scene baked = loaded;
-  make_meshes_unique(baked);
-  AtlasOptions options;
+  atlas::make_meshes_unique(baked);
+  atlas::AtlasOptions options;
   options.resolution = 64;
   LightmapSet set;
-  set.atlas = build_atlas(baked, options);
-  apply_atlas(baked, set.atlas);
+  set.atlas = atlas::build_atlas(baked, options);
+  atlas::apply_atlas(baked, set.atlas);
   set.scene = "cornell";
   set.scene_triangles = baked.triangle_count();
   set.folder = "lm";
@@ -207,4 +207,4 @@ TEST(LightmapSetApply, RefusedSetsLeaveTheSceneUnchanged) {
 }
 
 }  // namespace
-}  // namespace illum::atlas
+}  // namespace illum::baked

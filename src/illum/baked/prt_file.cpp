@@ -1,4 +1,4 @@
-#include "illum/bake/prt_file.h"
+#include "illum/baked/prt_file.h"
 
 #include <cmath>
 #include <cstring>
@@ -6,13 +6,13 @@
 
 #include <fmt/format.h>
 
-#include "illum/atlas/lightmap_file.h"
+#include "illum/baked/lightmap_file.h"
 #include "illum/core/error.h"
 #include "illum/core/json_input.h"
 #include "illum/core/sh.h"
 #include "illum/core/tonemap.h"
 
-namespace illum::bake {
+namespace illum::baked {
 
 namespace fs = std::filesystem;
 
@@ -105,8 +105,27 @@ std::string file_field(const nlohmann::json& j, const char* key, const std::stri
 
 }  // namespace
 
+const char* to_string(PrtMode mode) {
+  switch (mode) {
+    case PrtMode::kUnshadowed:
+      return "unshadowed";
+    case PrtMode::kShadowed:
+      return "shadowed";
+    case PrtMode::kInterreflected:
+      return "interreflected";
+  }
+  return "?";
+}
+
+PrtMode prt_mode_from_string(const std::string& name) {
+  if (name == "unshadowed") return PrtMode::kUnshadowed;
+  if (name == "shadowed") return PrtMode::kShadowed;
+  if (name == "interreflected") return PrtMode::kInterreflected;
+  throw Error(fmt::format("unknown PRT mode '{}' (unshadowed, shadowed or interreflected)", name));
+}
+
 void check_prt_output(const fs::path& folder) {
-  const fs::path target = atlas::bake_output_folder(folder);
+  const fs::path target = bake_output_folder(folder);
   if (!fs::is_directory(target.parent_path()))
     throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
                             target.parent_path().string()));
@@ -126,7 +145,7 @@ void save_prt_set(const fs::path& folder, const PrtSet& set) {
   for (const auto& v : set.vertex_transfer)
     if (v.size() % channels != 0) throw Error("PRT set: a vertex transfer is not whole points");
   check_prt_output(folder);
-  atlas::write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
+  write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
     nlohmann::json manifest = {{"format", "illum-prt"},
                                {"version", kVersion},
                                {"bands", set.bands},
@@ -296,7 +315,7 @@ PrtSet load_prt_set(const fs::path& folder) {
 }
 
 void apply_prt_set(Scene& scene, const PrtSet& set) {
-  atlas::LightmapSet identity;  // the light-map folder's scene check, reused as it is
+  LightmapSet identity;  // the light-map folder's scene check, reused as it is
   identity.atlas = set.atlas;
   identity.scene = set.scene;
   identity.scene_triangles = set.scene_triangles;
@@ -304,7 +323,7 @@ void apply_prt_set(Scene& scene, const PrtSet& set) {
   identity.folder = set.folder.empty() ? "PRT set" : set.folder;
   std::vector<Mesh> meshes = scene.meshes;
   std::vector<Instance> instances = scene.instances;
-  atlas::apply_lightmap_set(scene, identity);
+  apply_lightmap_set(scene, identity);
   if (!set.vertex_transfer.empty()) {
     const size_t channels = size_t(3 * sh::coefficient_count(set.bands));
     bool fits = set.vertex_transfer.size() == scene.instances.size();
@@ -320,18 +339,4 @@ void apply_prt_set(Scene& scene, const PrtSet& set) {
   }
 }
 
-nlohmann::json shooting_record(const PrtBake& baked) {
-  const TransferShotShares& s = baked.shot_shares;
-  return {{"shoot_rounds", baked.shoot_rounds},
-          {"unshot_fraction", baked.unshot_fraction},
-          {"relative_unshot", baked.relative_unshot},
-          {"shot_shares",
-           {{"front", s.front},
-            {"back", s.back},
-            {"escaped", s.escaped},
-            {"lost", s.lost},
-            {"below", s.below}}},
-          {"back_sides", baked.back_sides}};
-}
-
-}  // namespace illum::bake
+}  // namespace illum::baked
