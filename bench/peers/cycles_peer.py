@@ -11,7 +11,7 @@ saving 32-bit EXRs afterwards; writes {blender, settings, renders: [{exr, spp, s
 seconds}]} to the jobs' `timings` file (through a temporary file).
 
 --calibrate-ies: measures the scale Cycles applies to an IES profile on a point light (the
-constant kCyclesIesScale in bench/converge_stats.h): irradiance under a point light of
+constant kCyclesIesScale in bench/suites/converge_stats.h): irradiance under a point light of
 intensity 1 W/sr against the same light with a flat 1-candela profile.
 """
 import json

@@ -1,4 +1,4 @@
-// bench/converge_stats.h: the equal-noise estimator of `illum-bench converge` and the unit
+// bench/suites/converge_stats.h: the equal-noise estimator of `illum-bench converge` and the unit
 // conversions of its Cycles peer.
 #include "converge_stats.h"
 

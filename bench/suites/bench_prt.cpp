@@ -1,4 +1,4 @@
-// `illum-bench prt`: the PRT figures of issue 11 (part 6) on one scene (default the Cornell box):
+// `illum-bench prt`: the figures of bench/results/prt.md on one scene (default: the Cornell box):
 //  1. transfer bake time per 100k covered texels at --bands, shadowed and interreflected
 //     (texels only, `--spp` rays a texel);
 //  2. VQ compression of the interreflected SHL-map at each --representatives K: time,

@@ -1,5 +1,5 @@
 // `illum-bench photon-defaults`: the photon integrator with its default settings against
-// the path tracer at equal time (issue 10 part 3).
+// the path tracer at equal time.
 //
 // 1. A path-traced reference (--reference-spp, default 1024) is rendered once and cached
 //    in --out (reused when its file exists, or taken from --reference).

@@ -1,5 +1,5 @@
 // `illum-bench caustics`: caustics through a glass sphere, path tracing vs photon mapping vs
-// SPPM (ALGORITHMS.md A.2, issue 3 part 3).
+// SPPM (ALGORITHMS.md A.2).
 //
 // (a) Built-in `caustics` scene, point spot light: a path tracer cannot render the caustic
 //     at all (a delta light seen through a delta BSDF: no path vertex can connect to the

@@ -21,7 +21,7 @@
 //   target, shaders/bound_setup.vert; but that rate depends on the target: the mixed pass set
 //   up the d16 cascades' 251k triangles on 4 × 512² with their 4.5 passing layers on top in
 //   0.155 ms, where the 1024² rate charged 0.222 for the triangles alone — a bound above work
-//   the chip was measured doing. bench/results/h200-2026-12-03-d16-cascades.)
+//   the chip was measured doing: bench/results/raster.md, "H200 device rates".)
 // * mixed: where the triangles that left clipping were counted, a trivial pass draws that
 //   many set-up triangles covering no sample interleaved with full-target rectangles making
 //   the pass's passing layers, into each rendering's attachments (shaders/bound_mixed.vert):

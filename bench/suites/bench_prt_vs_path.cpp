@@ -1,4 +1,4 @@
-// `illum-bench prt-vs-path`: the image comparison of issue 11's "done when". One PRT bake of a
+// `illum-bench prt-vs-path`: relit PRT images against the path tracer. One PRT bake of a
 // scene with its own lights removed, relit under each distant light given (--sun, --env),
 // beside the path tracer lit (a) by the same band-limited light (the SH projection written
 // back into an environment map: what the transfer can represent exactly) and (b) by the true
