@@ -78,7 +78,7 @@ void write_leak_image(const std::string& folder, int spp) {
   options.spp = spp;
   options.progress = false;
   bake::ProbeBake baked = bake::bake_probes(scene, tracer, options);
-  bake::ProbeSet set;
+  baked::ProbeSet set;
   set.grid = baked.grid;
   set.probes = std::move(baked.probes);
   const int w = 300, h = 300, gap = 6;

@@ -23,7 +23,7 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_baker.h"
-#include "illum/bake/prt_file.h"
+#include "illum/baked/prt_file.h"
 #include "illum/bake/prt_relight.h"
 #include "illum/core/error.h"
 #include "illum/core/image.h"

@@ -33,7 +33,7 @@
 #include "illum/atlas/texel_raster.h"
 #include "illum/bake/lightmap_seams.h"
 #include "illum/bake/prt_baker.h"
-#include "illum/bake/prt_file.h"
+#include "illum/baked/prt_file.h"
 #include "illum/bake/prt_relight.h"
 #include "illum/core/error.h"
 #include "illum/core/image.h"
@@ -244,7 +244,7 @@ int run_prt_vs_path(SuiteArgs args) {
   bake_options.vertices = false;
   // The bake shown, and a second one (the next seed) that only serves to estimate the
   // transfer's Monte-Carlo error.
-  std::vector<bake::PrtSet> sets(2);
+  std::vector<baked::PrtSet> sets(2);
   bake::PrtBake baked;
   for (size_t k = 0; k < sets.size(); ++k) {
     bake_options.seed = a.seed + k;
@@ -263,7 +263,7 @@ int run_prt_vs_path(SuiteArgs args) {
         baked.shot_shares.back, (long long)baked.back_sides, baked.shot_shares.escaped,
         baked.shot_shares.lost, baked.shot_shares.below);
   }
-  const bake::PrtSet& set = sets[0];
+  const baked::PrtSet& set = sets[0];
 
   const Camera camera = scene.camera ? *scene.camera : Camera::framing(scene.bounds());
   const int w = a.width, h = a.height;

@@ -102,7 +102,7 @@ std::vector<std::vector<Image>> direct_relit_over_seeds(const Scene& scene, cons
   for (int j = 0; j < seeds; ++j) {
     options.seed = first_seed + uint64_t(j);
     bake::PrtBake baked = bake::bake_prt(scene, tracer, seen, options);
-    bake::PrtSet set;
+    baked::PrtSet set;
     set.bands = baked.bands;
     set.mode = baked.mode;
     set.texel_transfer = std::move(baked.texel_transfer);
