@@ -3,7 +3,7 @@
 // over 16) or --spacing, at --spp sphere samples per probe: the whole bake_probes call
 // (validity rays included) timed once per scene after a warm-up of the same grid at 1 spp.
 // With --images DIR it also writes probes_leak.png (docs/probes.md): the leak test's two rooms
-// (tests/bake/test_probes.cpp), a slice through the probe grid's lookups without and with the
+// (tests/bake/probes_test.cpp), a slice through the probe grid's lookups without and with the
 // visibility test.
 #include <chrono>
 #include <cmath>
