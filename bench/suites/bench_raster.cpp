@@ -39,7 +39,7 @@
 // * shading: for a fragment pass whose work is per-fragment lighting (the forward pass),
 //   `illum frame` times that lighting with no scene geometry — one full-screen pass running
 //   the pass's light loop over a G-buffer of the same view, each covered pixel once
-//   (realtime/shading_bound.h) — and the bench scales its per-pixel part to the lanes the
+//   (realtime/measure/shading_bound.h) — and the bench scales its per-pixel part to the lanes the
 //   pass ran, 4 × its quads per covered pixel: shading = fixed + (full-screen − fixed) ×
 //   4 · quads / pixels, `fixed` the pass's attachment set's fixed cost (the same attachments,
 //   rendered once by both). Without a quad count the scale is 1 (each covered pixel once,
@@ -349,7 +349,7 @@ int run_raster(SuiteArgs args) {
     return total;
   };
 
-  // The shading bound (realtime/shading_bound.h): the full-screen lighting's median, its
+  // The shading bound (realtime/measure/shading_bound.h): the full-screen lighting's median, its
   // per-pixel part scaled to the lanes the pass ran (4 × quads per covered pixel), its fixed
   // part — the attachment set's, which the pass pays once too — not.
   auto shading_bound = [&](const nlohmann::json& work, const std::string& file, Row* r) {
