@@ -84,6 +84,32 @@ bool orthogonalize(const vec3& n, vec3* v) {
   return true;
 }
 
+// A shading normal that the geometry's own facing contradicts: seen at a grazing angle, a
+// smoothed normal (averaged across a hard edge, as on Sibenik's capitals) can turn the
+// viewer below its hemisphere while the triangle faces it, and every BSDF then returns
+// nothing: black wedges along such edges, which the scene's true surface does not have.
+// As Cycles does, the normal is bent towards ng until the mirror direction of wo leaves
+// the geometric surface at least min(0.9·cos θg, 0.01) high (cos θg = wo·ng, on wo's side),
+// the least bend found by bisection on the blend ns → ng (ng itself always qualifies: its
+// mirror direction rises as steeply as wo). Normals that are already valid are untouched.
+vec3 bent_for_valid_reflection(const vec3& ns, const vec3& ng, const vec3& wo) {
+  const float side = glm::dot(wo, ng) < 0.0f ? -1.0f : 1.0f;
+  const vec3 g = side * ng, n = side * ns;
+  const float cos_g = glm::dot(g, wo);
+  if (!(cos_g > 0.0f)) return ns;  // exactly grazing, or no direction (wo = 0)
+  const float threshold = std::min(0.9f * cos_g, 0.01f);
+  const auto rises = [&](const vec3& m) {
+    return glm::dot(g, 2.0f * glm::dot(m, wo) * m - wo) >= threshold;
+  };
+  if (rises(n)) return ns;
+  float lo = 0.0f, hi = 1.0f;
+  for (int i = 0; i < 20; ++i) {
+    const float mid = 0.5f * (lo + hi);
+    (rises(glm::normalize(glm::mix(n, g, mid))) ? hi : lo) = mid;
+  }
+  return side * glm::normalize(glm::mix(n, g, hi));
+}
+
 }  // namespace
 
 struct RayTracer::Impl {
@@ -414,6 +440,11 @@ SurfaceInteraction RayTracer::interaction(const Ray& ray, const Hit& hit) const 
     }
   }
 
+  const vec3 bent = bent_for_valid_reflection(ns, si.ng, si.wo);
+  if (bent != ns) {
+    ns = bent;
+    if (has_tangent) has_tangent = orthogonalize(ns, &tangent);
+  }
   si.ns = ns;
   if (has_tangent)
     si.shading = Frame(tangent, glm::cross(ns, tangent), ns);  // right-handed: t × b = n
