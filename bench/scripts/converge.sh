@@ -11,7 +11,7 @@
 # the peer of the table) on PATH, or PEER=none for illum alone. Run from the repository root
 # (Sibenik is in ../shared/scenes). OUTDIR defaults to ${TMPDIR:-/tmp}/illum-bench/converge;
 # the references are cached there (reference-RENDERER-SCENE-WxH-bB-Nspp.exr) and reused by the
-# next run, so only the first run renders them (about 9 minutes on 2 cores with them cached
+# next run, so only the first run renders them (about 9 minutes on 2 cores; with them cached,
 # about 3). Writes OUTDIR/SCENE-N.json, the renders and the plots (converge-SCENE-*.png), and
 # prints the load before each scene. Exit 2 on bad arguments.
 set -eu
