@@ -13,6 +13,7 @@
 #include <span>
 #include <vector>
 
+#include "illum/bake/probe_baker.h"
 #include "illum/baked/probe_file.h"
 #include "illum/trace/ray_tracer.h"
 

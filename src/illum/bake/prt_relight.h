@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "illum/bake/prt_baker.h"
 #include "illum/baked/prt_file.h"
 #include "illum/core/color.h"
 #include "illum/core/image.h"
