@@ -36,6 +36,25 @@ struct Surface {
   vec3 prt_vertex;  // per-vertex PRT: the interpolated Σ T_i L_i (callers set it; prt.glsl)
 };
 
+// A shading normal that hides the viewer is bent towards ng until the mirror direction of v
+// rises from the surface by min(0.9·(v·ng), 0.01), the least bend by bisection on the blend
+// n → ng: the offline tracer's rule, operation for operation (trace/ray_tracer.cpp
+// bent_for_valid_reflection), so a normal map seen at a grazing angle shades as the path
+// tracer shades it instead of black.
+vec3 bent_for_valid_reflection(vec3 n, vec3 ng, vec3 v) {
+  float cos_g = dot(ng, v);
+  if (!(cos_g > 0.0)) return n;
+  float threshold = min(0.9 * cos_g, 0.01);
+  if (dot(ng, 2.0 * dot(n, v) * n - v) >= threshold) return n;
+  float lo = 0.0, hi = 1.0;
+  for (int i = 0; i < 20; ++i) {
+    float mid = 0.5 * (lo + hi);
+    vec3 m = normalize(mix(n, ng, mid));
+    if (dot(ng, 2.0 * dot(m, v) * m - v) >= threshold) hi = mid; else lo = mid;
+  }
+  return normalize(mix(n, ng, hi));
+}
+
 Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4 uv, bool front) {
   Material m = materials[material_index];
   Surface s;
@@ -61,6 +80,7 @@ Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4
     s.n_z = max(tn.z, 0.0);
     s.n_ts = tn;
     s.n = normalize(t * tn.x + b * tn.y + s.ng * tn.z);
+    s.n = bent_for_valid_reflection(s.n, s.ng, normalize(frame.camera_pos.xyz - p));
   }
   s.uv1 = uv.zw;
   s.prt_vertex = vec3(0.0);
