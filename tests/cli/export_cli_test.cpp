@@ -13,10 +13,11 @@ namespace {
 
 class ExportCli : public CliTest {
  protected:
-  fs::path bake(const std::string& scene, const std::string& name) {
+  fs::path bake(const std::string& scene, const std::string& name,
+                const std::string& extra = "") {
     const fs::path folder = dir_ / name;
-    const Result r =
-        run("bake " + scene + " --resolution 32 --spp 1 --seed 1 -o " + folder.string());
+    const Result r = run("bake " + scene + " --resolution 32 --spp 1 --seed 1 " + extra + " -o " +
+                         folder.string());
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return folder;
   }
@@ -57,6 +58,16 @@ TEST_F(ExportCli, CornellExportsAndLoadsBack) {
   EXPECT_EQ(toned.exit_code, 0) << toned.err;
   EXPECT_NE(toned.out.find("tone lrp97"), std::string::npos) << toned.out;
   expect_only({"lm", "cornell.glb", "cornell.lightmap.exr", "stdout.txt", "stderr.txt"});
+}
+
+// Every basis the baker writes exports (the dominant one stopped on an internal check).
+TEST_F(ExportCli, EveryBakedBasisExports) {
+  for (const std::string basis : {"plain", "rnm", "sh", "dominant"}) {
+    const fs::path lm = bake("cornell", basis, "--basis " + basis);
+    const Result r = do_export("cornell", lm, dir_ / (basis + ".glb"));
+    EXPECT_EQ(r.exit_code, 0) << basis << ": " << r.err;
+    EXPECT_TRUE(fs::exists(dir_ / (basis + ".glb"))) << basis;
+  }
 }
 
 TEST_F(ExportCli, BadInputIsOneLineAndWritesNothing) {

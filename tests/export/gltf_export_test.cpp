@@ -258,6 +258,29 @@ TEST_F(GltfExport, RnmAndShFoldersExportTheIrradianceAtTheNormal) {
   EXPECT_LE(check_rgbm(glb, lightmap_texture(glb), exr, range), 1.0);
 }
 
+// Dominant direction: layers A, C, d; the renderer shows E/π(n) = A + C·max(0, n·d), at
+// the unperturbed normal n = z: A + C·max(0, d_z). d is any direction here, half of the
+// texels facing away (d_z < 0: the ambient alone).
+TEST_F(GltfExport, DominantFolderExportsTheIrradianceAtTheNormal) {
+  set_.basis = "dominant";
+  set_.layers = {layer(1), layer(2), layer(3, true)};
+  export_set();
+  Image expected = set_.layers[0];
+  int facing_away = 0;
+  for (int y = 0; y < expected.height(); ++y)
+    for (int x = 0; x < expected.width(); ++x) {
+      const float dz = set_.layers[2].rgb(x, y).b;
+      facing_away += dz < 0.0f;
+      expected.set_rgb(x, y, set_.layers[0].rgb(x, y) + set_.layers[1].rgb(x, y) * std::max(0.0f, dz));
+    }
+  EXPECT_GT(facing_away, 0);
+  EXPECT_EQ(read_image((dir_ / "out.lightmap.exr").string(), false).data(), expected.data());
+  Glb glb = read_glb(dir_ / "out.glb");
+  const float range =
+      glb.json.at("materials").at(0).at("extensions").at("MSFT_lightmap").at("extras").at("range");
+  EXPECT_LE(check_rgbm(glb, lightmap_texture(glb), expected, range), 1.0);
+}
+
 TEST_F(GltfExport, Lrp97ToneMapsThePngOnlyAndTheExrStaysLinear) {
   set_.basis = "plain";
   set_.layers = {layer(1)};

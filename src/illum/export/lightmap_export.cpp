@@ -77,20 +77,39 @@ Image lightmap_irradiance(const baked::LightmapSet& set, std::string* descriptio
     // At the unperturbed normal (0, 0, 1) every RNM basis vector has n·b = 1/√3, so the
     // renderer's normalised squared weights are 1/3 each.
     what = "mean of the 3 RNM layers (E/π at the normal)";
-    ILLUM_CHECK(set.layers.size() == 3, "RNM set with {} layers", set.layers.size());
+    if (set.layers.size() != 3)
+      throw Error(
+          fmt::format("light-map set: basis rnm needs 3 layers, not {}", set.layers.size()));
     for (size_t k = 0; k < out.data().size(); ++k)
       out.data()[k] =
           (set.layers[0].data()[k] + set.layers[1].data()[k] + set.layers[2].data()[k]) / 3.0f;
-  } else {
+  } else if (set.basis == "dominant") {
+    // Layers: ambient A, directional colour C, dominant direction d (tangent space); the
+    // renderer shows E/π(n) = A + C·max(0, n·d), at the unperturbed normal n = z.
+    what = "dominant: A + C·max(0, d_z) (E/π at the normal)";
+    if (set.layers.size() != 3)
+      throw Error(fmt::format("light-map set: basis dominant needs 3 layers, not {}",
+                              set.layers.size()));
+    const Image &ambient = set.layers[0], &colour = set.layers[1], &direction = set.layers[2];
+    for (int y = 0; y < out.height(); ++y)
+      for (int x = 0; x < out.width(); ++x)
+        out.set_rgb(x, y,
+                    ambient.rgb(x, y) + colour.rgb(x, y) * std::max(0.0f, direction.rgb(x, y).b));
+  } else if (set.basis == "sh") {
     // E(n)/π = Σ (Λ_l/π) c_lm Y_lm(n) with the clamped-cosine factors Λ_0 = π, Λ_1 = 2π/3;
     // at n = z only Y00 and Y10 = kY1 are non-zero (layers: Y00, Y1−1, Y10, Y11).
     what = "SH-L1 irradiance at the normal (c0·Y00 + 2/3·c_z·Y1, E/π, clamped at 0)";
-    ILLUM_CHECK(set.layers.size() == 4, "SH set with {} layers", set.layers.size());
+    if (set.layers.size() != 4)
+      throw Error(fmt::format("light-map set: basis sh needs 4 layers, not {}", set.layers.size()));
     const std::vector<double> factors = sh::clamped_cosine_factors(2);
     const float w0 = static_cast<float>(factors[0] / kPi * sh::kY00);
     const float w1 = static_cast<float>(factors[1] / kPi * sh::kY1);
     for (size_t k = 0; k < out.data().size(); ++k)
       out.data()[k] = std::max(0.0f, w0 * set.layers[0].data()[k] + w1 * set.layers[2].data()[k]);
+  } else {
+    throw Error(fmt::format("light-map set: basis '{}' cannot be exported (plain, rnm, sh, "
+                            "dominant)",
+                            set.basis));
   }
   if (description != nullptr) *description = what;
   return out;
