@@ -194,3 +194,27 @@ TEST_F(CliTest, SameBytesForAnyThreadCount) {
 }
 
 }  // namespace
+
+// Baking over an earlier bake folder replaces it, but never deletes a file no bake wrote:
+// a folder holding one is refused with one line before any work, left as it was. Light-map,
+// PRT and probe folders alike (one check: baked/lightmap_file.h check_bake_output).
+TEST_F(CliTest, BakeOverAFolderKeepsFilesItDidNotWrite) {
+  const std::vector<std::pair<std::string, std::string>> kinds = {
+      {"--resolution 32 --spp 1", "lightmap.json"},
+      {"--kind prt --resolution 32 --spp 1", "prt.json"},
+      {"--kind probes --spp 1", "probes.json"}};
+  for (const auto& [options, manifest] : kinds) {
+    const fs::path folder = dir_ / "baked";
+    fs::remove_all(folder);
+    const std::string bake = "bake cornell " + options + " -o " + folder.string();
+    ASSERT_EQ(run(bake).exit_code, 0) << options;
+    EXPECT_EQ(run(bake).exit_code, 0) << options << ": an earlier bake is replaced";
+    write("baked/notes.txt", "mine");
+    const Result r = run(bake);
+    EXPECT_EQ(r.exit_code, 2) << options << ": " << r.err;
+    EXPECT_EQ(r.err_lines(), 1) << r.err;
+    EXPECT_NE(r.err.find("notes.txt"), std::string::npos) << r.err;
+    EXPECT_EQ(slurp(folder / "notes.txt"), "mine");
+    EXPECT_TRUE(fs::exists(folder / manifest)) << options;
+  }
+}

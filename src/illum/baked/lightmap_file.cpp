@@ -108,6 +108,44 @@ fs::path bake_output_folder(const fs::path& folder) {
   return target.has_filename() ? target : target.parent_path();
 }
 
+namespace {
+
+// Every string in a manifest that could name a file of its folder.
+void collect_strings(const nlohmann::json& j, std::vector<std::string>* out) {
+  if (j.is_string()) out->push_back(j.get<std::string>());
+  if (j.is_array() || j.is_object())
+    for (const auto& item : j) collect_strings(item, out);
+}
+
+}  // namespace
+
+void check_bake_output(const fs::path& folder, const std::string& manifest_name,
+                       const std::string& kind) {
+  const fs::path target = bake_output_folder(folder);
+  std::error_code ec;
+  if (!fs::is_directory(target.parent_path(), ec))
+    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
+                            target.parent_path().string()));
+  if (!fs::exists(target, ec)) return;
+  if (!fs::is_directory(target, ec) || !fs::exists(target / manifest_name, ec))
+    throw Error(fmt::format("{}: exists and is not a {} folder (no {}); refusing to replace it",
+                            folder.string(), kind, manifest_name));
+  std::vector<std::string> own = {manifest_name, "preview.png"};
+  try {
+    std::ifstream in(target / manifest_name);
+    collect_strings(nlohmann::json::parse(in), &own);
+  } catch (const std::exception&) {
+    // An unreadable manifest names no file: only the manifest and preview count as own.
+  }
+  for (const fs::directory_entry& entry : fs::directory_iterator(target, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_regular_file(ec) || std::find(own.begin(), own.end(), name) == own.end())
+      throw Error(fmt::format("{}: holds '{}', which no {} bake wrote; refusing to replace the "
+                              "folder (move it away first)",
+                              folder.string(), name, kind));
+  }
+}
+
 void write_bake_folder(const fs::path& folder, const std::string& manifest_name,
                        const std::function<nlohmann::json(const fs::path&)>& fill) {
   const fs::path target = bake_output_folder(folder);
@@ -138,14 +176,7 @@ void write_bake_folder(const fs::path& folder, const std::string& manifest_name,
 }
 
 void check_lightmap_output(const fs::path& folder) {
-  const fs::path target = bake_output_folder(folder);
-  if (!fs::is_directory(target.parent_path()))
-    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
-                            target.parent_path().string()));
-  if (fs::exists(target) && !fs::exists(target / kManifest))
-    throw Error(
-        fmt::format("{}: exists and is not a light-map folder (no {}); refusing to replace it",
-                    folder.string(), kManifest));
+  check_bake_output(folder, kManifest, "light-map");
 }
 
 int lightmap_layer_count(const std::string& basis) {

@@ -65,6 +65,13 @@ int lightmap_layer_count(const std::string& basis);
 // exist or holds an earlier light-map set. save_lightmap_set checks this too; callers run it
 // before long work so a bad path fails at once.
 void check_lightmap_output(const std::filesystem::path& folder);
+// Throws Error (one line) unless a bake of this `kind` ("light-map", "PRT", "probe") may
+// write `folder`: its parent exists, and it does not exist or is an earlier bake folder of
+// the kind (it holds `manifest_name`) holding only what a bake writes there: the manifest,
+// preview.png and the files the manifest names. A file illum did not write is never
+// deleted by replacing the folder.
+void check_bake_output(const std::filesystem::path& folder, const std::string& manifest_name,
+                       const std::string& kind);
 // The absolute, normalised folder a bake writes (a trailing separator dropped).
 std::filesystem::path bake_output_folder(const std::filesystem::path& folder);
 // Writes a bake folder whole or not at all (light-map and PRT folders): `fill` writes the

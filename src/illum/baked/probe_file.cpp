@@ -104,13 +104,7 @@ Scene static_part(const Scene& scene) {
 }
 
 void check_probe_output(const fs::path& folder) {
-  const fs::path target = bake_output_folder(folder);
-  if (!fs::is_directory(target.parent_path()))
-    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
-                            target.parent_path().string()));
-  if (fs::exists(target) && !fs::exists(target / kManifest))
-    throw Error(fmt::format("{}: exists and is not a probe folder (no {}); refusing to replace it",
-                            folder.string(), kManifest));
+  check_bake_output(folder, kManifest, "probe");
 }
 
 void save_probe_set(const fs::path& folder, const ProbeSet& set) {

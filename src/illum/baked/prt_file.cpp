@@ -125,13 +125,7 @@ PrtMode prt_mode_from_string(const std::string& name) {
 }
 
 void check_prt_output(const fs::path& folder) {
-  const fs::path target = bake_output_folder(folder);
-  if (!fs::is_directory(target.parent_path()))
-    throw Error(fmt::format("{}: folder '{}' does not exist", folder.string(),
-                            target.parent_path().string()));
-  if (fs::exists(target) && !fs::exists(target / kManifest))
-    throw Error(fmt::format("{}: exists and is not a PRT folder (no {}); refusing to replace it",
-                            folder.string(), kManifest));
+  check_bake_output(folder, kManifest, "PRT");
 }
 
 void save_prt_set(const fs::path& folder, const PrtSet& set) {
