@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "illum/core/error.h"
+#include "illum/core/file_write.h"
 #include "illum/core/json_input.h"
 #include "illum/core/tonemap.h"
 #include "illum/scene/geometry_hash.h"
@@ -156,11 +157,9 @@ void write_bake_folder(const fs::path& folder, const std::string& manifest_name,
   fs::create_directories(staging);
   try {
     const nlohmann::json manifest = fill(staging);
-    {
-      std::ofstream file(staging / manifest_name);
-      file << manifest.dump(2) << "\n";
-      if (!file) throw Error(fmt::format("{}: cannot write the manifest", folder.string()));
-    }
+    // Checked to the last byte (core/file_write.h): a full disk is an error, not a torn
+    // manifest in a folder that then looks finished.
+    write_file_atomically((staging / manifest_name).string(), manifest.dump(2) + "\n");
     fs::path old;
     if (fs::exists(target)) {
       old = parent / fmt::format(".{}.old-{:08x}", target.filename().string(), random());

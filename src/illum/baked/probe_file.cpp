@@ -8,6 +8,7 @@
 
 #include "illum/baked/lightmap_file.h"
 #include "illum/core/error.h"
+#include "illum/core/file_write.h"
 #include "illum/core/json_input.h"
 #include "illum/scene/geometry_hash.h"
 
@@ -115,15 +116,10 @@ void save_probe_set(const fs::path& folder, const ProbeSet& set) {
   int64_t valid = 0;
   for (const ProbeRecord& r : set.probes) valid += r.weight > 0.0f ? 1 : 0;
   write_bake_folder(folder, kManifest, [&](const fs::path& staging) {
-    std::ofstream out(staging / kDataFile, std::ios::binary);
     const uint64_t points = set.probes.size();
-    out.write(kMagic, 8);
-    out.write(reinterpret_cast<const char*>(&kVersion), 4);
-    out.write(reinterpret_cast<const char*>(&kFloatsPerProbe), 4);
-    out.write(reinterpret_cast<const char*>(&points), 8);
-    out.write(reinterpret_cast<const char*>(set.probes.data()),
-              std::streamsize(points * sizeof(ProbeRecord)));
-    if (!out) throw Error(fmt::format("{}: cannot write", (staging / kDataFile).string()));
+    write_file_atomically((staging / kDataFile).string(),
+                          {bytes_of(kMagic, 8), bytes_of(&kVersion), bytes_of(&kFloatsPerProbe),
+                           bytes_of(&points), bytes_of(set.probes.data(), points)});
     const ProbeGrid& g = set.grid;
     return nlohmann::json{
         {"format", "illum-probes"},

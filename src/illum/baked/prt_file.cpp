@@ -8,6 +8,7 @@
 
 #include "illum/baked/lightmap_file.h"
 #include "illum/core/error.h"
+#include "illum/core/file_write.h"
 #include "illum/core/json_input.h"
 #include "illum/core/sh.h"
 #include "illum/core/tonemap.h"
@@ -30,14 +31,9 @@ constexpr uint32_t kVersion = 1;
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
 
 void write_block(const fs::path& path, uint32_t channels, const float* data, uint64_t points) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(kMagic, 8);
-  out.write(reinterpret_cast<const char*>(&kVersion), 4);
-  out.write(reinterpret_cast<const char*>(&channels), 4);
-  out.write(reinterpret_cast<const char*>(&points), 8);
-  out.write(reinterpret_cast<const char*>(data),
-            std::streamsize(points * channels * sizeof(float)));
-  if (!out) throw Error(fmt::format("{}: cannot write", path.string()));
+  write_file_atomically(path.string(), {bytes_of(kMagic, 8), bytes_of(&kVersion),
+                                        bytes_of(&channels), bytes_of(&points),
+                                        bytes_of(data, points * channels)});
 }
 
 // Reads a block of exactly `points` × `channels` finite floats.

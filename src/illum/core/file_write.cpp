@@ -21,19 +21,21 @@ constexpr size_t kMaxFileNameBytes = 255;
 
 std::string system_reason(int error) { return std::strerror(error); }
 
-// Writes all of `bytes` to a new file `tmp`; returns "" or the reason it failed.
-std::string write_all(const std::string& tmp, std::span<const uint8_t> bytes) {
+// Writes all of `parts`, in order, to a new file `tmp`; returns "" or the reason it failed.
+std::string write_all(const std::string& tmp, const std::vector<std::span<const uint8_t>>& parts) {
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return system_reason(errno);
   std::string failure;
-  size_t done = 0;
-  while (done < bytes.size() && failure.empty()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0)
-      failure = n < 0 ? system_reason(errno) : "the disk took no more bytes";
-    else
-      done += static_cast<size_t>(n);
+  for (const std::span<const uint8_t>& bytes : parts) {
+    size_t done = 0;
+    while (done < bytes.size() && failure.empty()) {
+      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0)
+        failure = n < 0 ? system_reason(errno) : "the disk took no more bytes";
+      else
+        done += static_cast<size_t>(n);
+    }
   }
   if (failure.empty() && ::fsync(fd) != 0) failure = system_reason(errno);
   if (::close(fd) != 0 && failure.empty()) failure = system_reason(errno);
@@ -54,8 +56,13 @@ std::string temporary_path_beside(const std::string& path) {
 }
 
 void write_file_atomically(const std::string& path, std::span<const uint8_t> bytes) {
+  write_file_atomically(path, std::vector<std::span<const uint8_t>>{bytes});
+}
+
+void write_file_atomically(const std::string& path,
+                           const std::vector<std::span<const uint8_t>>& parts) {
   const std::string tmp = temporary_path_beside(path);
-  std::string failure = write_all(tmp, bytes);
+  std::string failure = write_all(tmp, parts);
   std::error_code ec;
   if (failure.empty()) {
     fs::rename(tmp, path, ec);

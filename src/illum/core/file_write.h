@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace illum {
 
@@ -16,6 +17,15 @@ namespace illum {
 // `path` is left as it was.
 void write_file_atomically(const std::string& path, std::span<const uint8_t> bytes);
 void write_file_atomically(const std::string& path, const std::string& text);
+// The concatenation of `parts` (a header and a large block, say, without copying them).
+void write_file_atomically(const std::string& path,
+                           const std::vector<std::span<const uint8_t>>& parts);
+
+// The bytes of a trivially copyable value or array, for the `parts` above.
+template <typename T>
+std::span<const uint8_t> bytes_of(const T* data, size_t count = 1) {
+  return {reinterpret_cast<const uint8_t*>(data), count * sizeof(T)};
+}
 
 // The hidden temporary name write_file_atomically uses beside `path`: same folder (so the
 // rename is atomic), unique per process and call.
