@@ -339,6 +339,62 @@ TEST(TexelRaster, BadInputThrows) {
   }
 }
 
+// texel_overlap_area (the raster's largest-overlap rule and the bakers' texel areas) against
+// the opposite clipping above: the square clipped by the triangle's half-planes.
+TEST(TexelRaster, OverlapAreaAgreesWithClippingTheSquare) {
+  const glm::dvec2 whole[3] = {{-1, -1}, {4, -1}, {-1, 4}};  // contains the square at (0, 0)
+  EXPECT_DOUBLE_EQ(atlas::texel_overlap_area(whole, 0, 0), 1.0);
+  EXPECT_EQ(atlas::texel_overlap_area(whole, 5, 5), 0.0);
+  const glm::dvec2 half[3] = {{2, 3}, {3, 3}, {2, 4}};  // half of the square at (2, 3)
+  EXPECT_DOUBLE_EQ(atlas::texel_overlap_area(half, 2, 3), 0.5);
+  EXPECT_EQ(atlas::texel_overlap_area(half, 3, 3), 0.0);  // touches along an edge only
+  Rng rng(11);
+  for (int i = 0; i < 2000; ++i) {
+    Tri t;
+    for (glm::dvec2& p : t.p) p = glm::dvec2(6.0 * rng.next_float(), 6.0 * rng.next_float());
+    const glm::dvec2 reversed[3] = {t.p[2], t.p[1], t.p[0]};
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 6; ++x) {
+        const double expected = overlap_area(t, x, y);
+        EXPECT_NEAR(atlas::texel_overlap_area(t.p, x, y), expected, 1e-9);
+        EXPECT_NEAR(atlas::texel_overlap_area(reversed, x, y), expected, 1e-9);
+      }
+  }
+}
+
+// check_texel_raster (every baker's input check) accepts a raster of its scene and refuses
+// a malformed one, samples outside it and samples of triangles the scene does not have.
+TEST(TexelRaster, CheckRefusesRastersOfAnotherScene) {
+  Scene scene;
+  test::add_instance(scene, test::uv_plane(1.0f, 0));
+  const TexelRaster raster = atlas::rasterize_texels(scene, 8, 8);
+  ASSERT_GT(raster.covered(), 0u);
+  EXPECT_NO_THROW(atlas::check_texel_raster(scene, raster, "test"));
+  const auto refused = [&](const TexelRaster& r, const char* what) {
+    try {
+      atlas::check_texel_raster(scene, r, "test");
+      ADD_FAILURE() << what << ": accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("test: ", 0), 0u) << e.what();
+    }
+  };
+  TexelRaster r = raster;
+  r.sample_of.pop_back();
+  refused(r, "short sample_of");
+  r = raster;
+  r.width = 0;
+  refused(r, "zero width");
+  r = raster;
+  r.samples[0].x = 8;
+  refused(r, "sample outside");
+  r = raster;
+  r.samples[0].instance = 1;
+  refused(r, "unknown instance");
+  r = raster;
+  r.samples[0].triangle = 2;
+  refused(r, "unknown triangle");
+}
+
 TEST(TexelRaster, DilateFillsOneRingPerIteration) {
   // A 2×2-texel square in the middle of an 8×8 map (uv on texel borders, exact binary
   // fractions); covered texels hold distinct values.

@@ -90,45 +90,6 @@ void strip_span(const UvTriangle& t, double y0, double y1, double* lo, double* h
   }
 }
 
-// Area of the triangle's overlap with the texel square [x, x+1] × [y, y+1]
-// (Sutherland–Hodgman against the four sides, then the shoelace formula).
-double overlap_area(const UvTriangle& t, int x, int y) {
-  struct P {
-    double x, y;
-  };
-  P poly[16], next[16];
-  int n = 3;
-  for (int i = 0; i < 3; ++i) poly[i] = {t.x[i], t.y[i]};
-  // Keeps the side where sign · (coordinate − bound) ≥ 0.
-  auto clip = [&](bool along_x, double bound, double sign) {
-    int m = 0;
-    for (int i = 0; i < n && m < 15; ++i) {
-      const P& a = poly[i];
-      const P& b = poly[(i + 1) % n];
-      const double da = sign * ((along_x ? a.x : a.y) - bound);
-      const double db = sign * ((along_x ? b.x : b.y) - bound);
-      if (da >= 0.0) next[m++] = a;
-      if ((da >= 0.0) != (db >= 0.0)) {
-        const double s = da / (da - db);
-        next[m++] = {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)};
-      }
-    }
-    n = m;
-    std::copy(next, next + m, poly);
-  };
-  clip(true, x, 1.0);
-  if (n > 0) clip(true, x + 1, -1.0);
-  if (n > 0) clip(false, y, 1.0);
-  if (n > 0) clip(false, y + 1, -1.0);
-  double area2 = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const P& a = poly[i];
-    const P& b = poly[(i + 1) % n];
-    area2 += a.x * b.y - a.y * b.x;
-  }
-  return 0.5 * std::abs(area2);
-}
-
 // The point of the triangle's boundary nearest (px, py), as barycentrics (b1, b2). Used for
 // texels whose centre lies outside: the nearest point of the triangle is then on an edge.
 vec2 nearest_on_boundary(const UvTriangle& t, double px, double py) {
@@ -271,6 +232,63 @@ TexelSample make_sample(const InstanceGeometry& g, const UvTriangle& t, int x, i
 
 }  // namespace
 
+void check_texel_raster(const Scene& scene, const TexelRaster& raster, const char* who) {
+  if (raster.width < 1 || raster.height < 1 ||
+      raster.sample_of.size() != static_cast<size_t>(raster.width) * raster.height)
+    throw Error(fmt::format("{}: malformed texel raster ({}x{}, {} entries)", who, raster.width,
+                            raster.height, raster.sample_of.size()));
+  for (const TexelSample& s : raster.samples) {
+    if (s.x < 0 || s.x >= raster.width || s.y < 0 || s.y >= raster.height)
+      throw Error(fmt::format("{}: texel ({}, {}) lies outside the {}x{} raster", who, s.x, s.y,
+                              raster.width, raster.height));
+    const bool instance_ok =
+        s.instance >= 0 && static_cast<size_t>(s.instance) < scene.instances.size();
+    const int mesh = instance_ok ? scene.instances[static_cast<size_t>(s.instance)].mesh : -1;
+    if (mesh < 0 || static_cast<size_t>(mesh) >= scene.meshes.size() || s.triangle < 0 ||
+        static_cast<size_t>(s.triangle) >= scene.meshes[static_cast<size_t>(mesh)].triangle_count())
+      throw Error(fmt::format(
+          "{}: texel ({}, {}) refers to instance {} triangle {}, which scene '{}' does not have "
+          "(raster made from another scene?)",
+          who, s.x, s.y, s.instance, s.triangle, scene.name));
+  }
+}
+
+double texel_overlap_area(const glm::dvec2 triangle[3], int x, int y) {
+  // A triangle clipped by four half-planes keeps at most 7 corners.
+  glm::dvec2 poly[8], next[8];
+  int n = 3;
+  std::copy(triangle, triangle + 3, poly);
+  const double lo[2] = {double(x), double(y)}, hi[2] = {double(x) + 1.0, double(y) + 1.0};
+  for (int side = 0; side < 4 && n > 0; ++side) {
+    const int axis = side / 2;
+    const bool upper = side % 2 == 1;
+    const double bound = upper ? hi[axis] : lo[axis];
+    const auto inside = [&](const glm::dvec2& p) {
+      return upper ? p[axis] <= bound : p[axis] >= bound;
+    };
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const glm::dvec2& a = poly[i];
+      const glm::dvec2& b = poly[(i + 1) % n];
+      const bool a_in = inside(a), b_in = inside(b);
+      if (a_in) next[m++] = a;
+      if (a_in != b_in) {
+        const double t = (bound - a[axis]) / (b[axis] - a[axis]);
+        next[m++] = a + t * (b - a);
+      }
+    }
+    n = m;
+    std::copy(next, next + m, poly);
+  }
+  double twice = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec2& a = poly[i];
+    const glm::dvec2& b = poly[(i + 1) % n];
+    twice += a.x * b.y - b.x * a.y;
+  }
+  return 0.5 * std::abs(twice);
+}
+
 TexelRaster rasterize_texels(const Scene& scene, int width, int height) {
   if (width < 1 || height < 1 || width > kMaxSize || height > kMaxSize)
     throw Error(fmt::format("texel raster: size {}x{} must lie in [1, {}] on both sides", width,
@@ -341,7 +359,9 @@ TexelRaster rasterize_texels(const Scene& scene, int width, int height) {
                   c = {id, kCentreInside};
                   continue;
                 }
-                const float area = static_cast<float>(overlap_area(t, x, y));
+                const glm::dvec2 corners[3] = {
+                    {t.x[0], t.y[0]}, {t.x[1], t.y[1]}, {t.x[2], t.y[2]}};
+                const float area = static_cast<float>(texel_overlap_area(corners, x, y));
                 if (c.triangle < 0 || area > c.score) c = {id, area};
               }
             }

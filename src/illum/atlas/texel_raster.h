@@ -50,6 +50,17 @@ struct TexelRaster {
 // never hit) cover nothing. Runs in parallel (TBB); the result does not depend on it.
 TexelRaster rasterize_texels(const Scene& scene, int width, int height);
 
+// Throws Error, prefixed with `who` (the caller's name for itself: "light-map bake"), unless
+// `raster` is well formed for `scene`: both sizes ≥ 1, one sample_of entry per texel, every
+// sample inside the raster and on a triangle of an instance of the scene (a raster made from
+// another scene is refused). The bakers' common input check.
+void check_texel_raster(const Scene& scene, const TexelRaster& raster, const char* who);
+
+// Area of the part of `triangle` (texel units, either winding) inside the texel square
+// [x, x+1] × [y, y+1]: Sutherland–Hodgman against the square's four sides, then the
+// shoelace formula. The raster's largest-overlap rule and the bakers' texel areas use it.
+double texel_overlap_area(const glm::dvec2 triangle[3], int x, int y);
+
 // Border post-processing (S002 §3.3.6): `iterations` times, every uncovered texel with
 // covered or already-filled 8-neighbours takes their mean, so bilinear filtering at chart
 // borders reads no black. `image` has the raster's size. "Already filled" means filled by

@@ -162,23 +162,7 @@ void validate(const LightmapBakeOptions& o) {
 void validate(const Scene& scene, const RayTracer& tracer, const atlas::TexelRaster& raster) {
   if (&tracer.scene() != &scene)
     throw Error("light-map bake: the ray tracer was built from another scene");
-  if (raster.width < 1 || raster.height < 1 ||
-      raster.sample_of.size() != static_cast<size_t>(raster.width) * raster.height)
-    throw Error(fmt::format("light-map bake: malformed texel raster ({}x{}, {} entries)",
-                            raster.width, raster.height, raster.sample_of.size()));
-  for (const atlas::TexelSample& s : raster.samples) {
-    const bool ok = s.instance >= 0 && static_cast<size_t>(s.instance) < scene.instances.size() &&
-                    s.x >= 0 && s.x < raster.width && s.y >= 0 && s.y < raster.height;
-    const Instance* inst = ok ? &scene.instances[static_cast<size_t>(s.instance)] : nullptr;
-    if (!ok || inst->mesh < 0 || static_cast<size_t>(inst->mesh) >= scene.meshes.size() ||
-        s.triangle < 0 ||
-        static_cast<size_t>(s.triangle) >=
-            scene.meshes[static_cast<size_t>(inst->mesh)].triangle_count())
-      throw Error(fmt::format(
-          "light-map bake: texel ({}, {}) refers to instance {} triangle {}, which scene '{}' "
-          "does not have (raster made from another scene?)",
-          s.x, s.y, s.instance, s.triangle, scene.name));
-  }
+  atlas::check_texel_raster(scene, raster, "light-map bake");
 }
 
 }  // namespace

@@ -53,9 +53,7 @@ float texel_world_size(const Scene& scene, const atlas::TexelRaster& raster,
 void validate(const Scene& scene, const atlas::TexelRaster& raster,
               const std::vector<Image>& layers, const Image& variance,
               const std::vector<float>& guide_weights) {
-  if (raster.sample_of.size() != static_cast<size_t>(raster.width) * raster.height)
-    throw Error(fmt::format("light-map denoise: malformed texel raster ({}x{}, {} entries)",
-                            raster.width, raster.height, raster.sample_of.size()));
+  atlas::check_texel_raster(scene, raster, "light-map denoise");
   if (layers.empty()) throw Error("light-map denoise: no layers");
   for (const Image& layer : layers)
     if (layer.width() != raster.width || layer.height() != raster.height || layer.channels() < 3)
@@ -73,19 +71,13 @@ void validate(const Scene& scene, const atlas::TexelRaster& raster,
   for (const float w : guide_weights)
     if (!std::isfinite(w)) throw Error("light-map denoise: a guide weight is not finite");
   for (const atlas::TexelSample& s : raster.samples) {
-    const bool instance_ok =
-        s.instance >= 0 && static_cast<size_t>(s.instance) < scene.instances.size();
-    const int mesh_index = instance_ok ? scene.instances[static_cast<size_t>(s.instance)].mesh : -1;
-    const Mesh* mesh = mesh_index >= 0 && static_cast<size_t>(mesh_index) < scene.meshes.size()
-                           ? &scene.meshes[static_cast<size_t>(mesh_index)]
-                           : nullptr;
-    if (!mesh || s.triangle < 0 || static_cast<size_t>(s.triangle) >= mesh->triangle_count() ||
-        mesh->uv1.size() != mesh->positions.size() || s.x < 0 || s.x >= raster.width || s.y < 0 ||
-        s.y >= raster.height)
+    const Mesh& mesh =
+        scene.meshes[static_cast<size_t>(scene.instances[static_cast<size_t>(s.instance)].mesh)];
+    if (mesh.uv1.size() != mesh.positions.size())
       throw Error(fmt::format(
-          "light-map denoise: texel ({}, {}) refers to instance {} triangle {}, which scene '{}' "
-          "does not have with uv1 (raster made from another scene?)",
-          s.x, s.y, s.instance, s.triangle, scene.name));
+          "light-map denoise: texel ({}, {}) lies on instance {}, whose mesh has no uv1 "
+          "(raster made from another scene?)",
+          s.x, s.y, s.instance));
     const float v = variance.pixel(s.x, s.y)[0];
     if (!(std::isfinite(v) && v >= 0.0f))
       throw Error(fmt::format("light-map denoise: texel ({}, {}) has variance {}", s.x, s.y, v));

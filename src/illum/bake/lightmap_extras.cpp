@@ -55,10 +55,7 @@ void validate(const LightmapExtrasOptions& o) {
 void validate(const Scene& scene, const RayTracer& tracer, const atlas::TexelRaster& raster) {
   if (&tracer.scene() != &scene)
     throw Error("light-map extras: the ray tracer was built from another scene");
-  for (const atlas::TexelSample& s : raster.samples)
-    if (s.x < 0 || s.x >= raster.width || s.y < 0 || s.y >= raster.height)
-      throw Error(fmt::format("light-map extras: texel ({}, {}) lies outside the {}x{} raster", s.x,
-                              s.y, raster.width, raster.height));
+  atlas::check_texel_raster(scene, raster, "light-map extras");
 }
 
 }  // namespace
@@ -240,10 +237,7 @@ GlobalLineObscurance obscurance_global_lines(const Scene& scene, const RayTracer
                             options.obscurance_dmax));
   if (&tracer.scene() != &scene)
     throw Error("global-line obscurance: the ray tracer was built from another scene");
-  if (raster.width < 1 || raster.height < 1 ||
-      raster.sample_of.size() != size_t(raster.width) * size_t(raster.height))
-    throw Error(fmt::format("global-line obscurance: malformed texel raster ({}x{}, {} entries)",
-                            raster.width, raster.height, raster.sample_of.size()));
+  atlas::check_texel_raster(scene, raster, "global-line obscurance");
   ThreadLimit thread_limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const int w = raster.width, h = raster.height;

@@ -431,9 +431,7 @@ float texel_world_size(const Scene& scene, const atlas::TexelRaster& raster,
 
 TexelPushOut keep_texels_out_of_geometry(const Scene& scene, const RayTracer& tracer,
                                          atlas::TexelRaster& raster) {
-  if (raster.sample_of.size() != size_t(raster.width) * size_t(raster.height))
-    throw Error(fmt::format("texel push-out: malformed texel raster ({}x{}, {} entries)",
-                            raster.width, raster.height, raster.sample_of.size()));
+  atlas::check_texel_raster(scene, raster, "texel push-out");
   const int64_t count = static_cast<int64_t>(raster.samples.size());
   std::vector<uint8_t> reject(raster.samples.size(), 0);
   std::atomic<int64_t> moved{0};

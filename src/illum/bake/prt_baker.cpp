@@ -88,36 +88,6 @@ std::vector<vec3> vertex_ray_origins(const Instance& inst, const Mesh& mesh) {
   return origin;
 }
 
-// Area of the part of triangle q (texel units) inside the unit square at (x, y):
-// Sutherland–Hodgman clipping against the square's four sides.
-double clipped_area(const glm::dvec2 q[3], double x, double y) {
-  std::vector<glm::dvec2> poly(q, q + 3), next;
-  const auto clip = [&](int axis, double bound, bool keep_above) {
-    next.clear();
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-      const bool ina = keep_above ? a[axis] >= bound : a[axis] <= bound;
-      const bool inb = keep_above ? b[axis] >= bound : b[axis] <= bound;
-      if (ina) next.push_back(a);
-      if (ina != inb) {
-        const double t = (bound - a[axis]) / (b[axis] - a[axis]);
-        next.push_back(a + t * (b - a));
-      }
-    }
-    poly.swap(next);
-  };
-  clip(0, x, true);
-  clip(0, x + 1.0, false);
-  clip(1, y, true);
-  clip(1, y + 1.0, false);
-  double twice = 0.0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const glm::dvec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-    twice += a.x * b.y - b.x * a.y;
-  }
-  return 0.5 * std::abs(twice);
-}
-
 // World area of each texel: Σ over the triangles of the uv1 area they cover in it × the
 // triangle's world/uv area ratio (exact for the piecewise-linear chart map).
 std::vector<float> texel_areas(const Scene& scene, const atlas::TexelRaster& raster) {
@@ -145,7 +115,7 @@ std::vector<float> texel_areas(const Scene& scene, const atlas::TexelRaster& ras
       for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x)
           area[size_t(y) * size_t(raster.width) + size_t(x)] +=
-              clipped_area(q, double(x), double(y)) * world / uv;
+              atlas::texel_overlap_area(q, x, y) * world / uv;
     }
   }
   return {area.begin(), area.end()};
@@ -404,6 +374,7 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
   options.validate();
   if (&tracer.scene() != &scene)
     throw Error("PRT bake: the ray tracer was built from another scene");
+  atlas::check_texel_raster(scene, raster, "PRT bake");
   for (const Mesh& mesh : scene.meshes)
     if (mesh.normals.size() != mesh.positions.size())
       throw Error(fmt::format("PRT bake: mesh '{}' has {} normals for {} vertices", mesh.name,

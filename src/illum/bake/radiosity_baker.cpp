@@ -67,41 +67,6 @@ void validate(const RadiosityBakeOptions& o) {
     throw Error(fmt::format("radiosity bake: threads = {} must be ≥ 0", o.threads));
 }
 
-// Area of the part of a convex polygon inside the unit square at (x, y) (Sutherland–Hodgman
-// against the square's four edges, then the shoelace formula).
-double clipped_area(const dvec2* tri, int x, int y) {
-  dvec2 a[8], b[8];
-  int n = 3;
-  for (int i = 0; i < 3; ++i) a[i] = tri[i];
-  const double lo[2] = {double(x), double(y)}, hi[2] = {double(x) + 1.0, double(y) + 1.0};
-  for (int edge = 0; edge < 4 && n > 0; ++edge) {
-    const int axis = edge / 2;
-    const bool upper = edge % 2 == 1;
-    auto inside = [&](const dvec2& p) { return upper ? p[axis] <= hi[axis] : p[axis] >= lo[axis]; };
-    const double bound = upper ? hi[axis] : lo[axis];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const dvec2& p = a[i];
-      const dvec2& q = a[(i + 1) % n];
-      const bool pin = inside(p), qin = inside(q);
-      if (pin) b[m++] = p;
-      if (pin != qin) {
-        const double t = (bound - p[axis]) / (q[axis] - p[axis]);
-        b[m++] = p + (q - p) * t;
-      }
-    }
-    n = m;
-    for (int i = 0; i < n; ++i) a[i] = b[i];
-  }
-  double twice = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const dvec2& p = a[i];
-    const dvec2& q = a[(i + 1) % n];
-    twice += p.x * q.y - q.x * p.y;
-  }
-  return std::abs(twice) * 0.5;
-}
-
 // Surfaces of the shooter choice: the connected pieces (4-neighbours) of covered texels of
 // one instance. The atlas keeps charts `padding` ≥ 1 texels apart, so these are its charts.
 int label_surfaces(const atlas::TexelRaster& raster, std::vector<int>& surface) {
@@ -270,7 +235,7 @@ Image texel_areas(const Scene& scene, const atlas::TexelRaster& raster) {
       for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x) {
           if (raster.at(x, y) < 0) continue;
-          const double a = clipped_area(uv, x, y);
+          const double a = atlas::texel_overlap_area(uv, x, y);
           if (a > 0.0) area.pixel(x, y)[0] += float(a * ratio);
         }
     }
@@ -284,18 +249,7 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
   validate(options);
   if (&tracer.scene() != &scene)
     throw Error("radiosity bake: the ray tracer was built from another scene");
-  if (raster.sample_of.size() != size_t(raster.width) * size_t(raster.height))
-    throw Error(fmt::format("radiosity bake: malformed texel raster ({}x{}, {} entries)",
-                            raster.width, raster.height, raster.sample_of.size()));
-  for (const atlas::TexelSample& s : raster.samples)
-    if (s.instance < 0 || size_t(s.instance) >= scene.instances.size() ||
-        size_t(scene.instances[size_t(s.instance)].mesh) >= scene.meshes.size() || s.triangle < 0 ||
-        size_t(s.triangle) >=
-            scene.meshes[size_t(scene.instances[size_t(s.instance)].mesh)].triangle_count())
-      throw Error(
-          fmt::format("radiosity bake: texel ({}, {}) refers to instance {} triangle {}, "
-                      "which scene '{}' does not have (raster made from another scene?)",
-                      s.x, s.y, s.instance, s.triangle, scene.name));
+  atlas::check_texel_raster(scene, raster, "radiosity bake");
   const auto t0 = std::chrono::steady_clock::now();
   const size_t n = raster.samples.size();
   // Dominant-direction maps are made from SH-L1 sums at the end (lightmap_basis.h).
