@@ -146,7 +146,8 @@ void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
       args.output.c_str());
 }
 
-void run_bake(const BakeArgs& args, const CLI::App& cmd) {
+// Options of another kind are refused rather than ignored.
+void check_kind_options(const BakeArgs& args, const CLI::App& cmd) {
   if (args.kind != "lightmap" && args.kind != "prt" && args.kind != "probes")
     throw Error(fmt::format("--kind '{}': lightmap, prt or probes", args.kind));
   for (const char* option : {"--bands", "--mode", "--vq"})
@@ -154,39 +155,38 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
       throw Error(fmt::format("{} applies to --kind prt only", option));
   if (args.kind != "probes" && cmd.count("--spacing"))
     throw Error("--spacing applies to --kind probes only");
-  if (args.kind == "probes") {
-    run_probe_bake(args, cmd);
-    return;
-  }
-  if (args.kind == "prt") {
-    for (const char* option :
-         {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
-          "--extras-rays", "--method", "--threshold", "--time"})
-      if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
-    // The interreflected transfer is one shooting loop over every patch; the other modes
-    // are not split yet either.
-    refuse_with_several_ranks(true, "bake --kind prt", "its work is not split across ranks");
-    PrtBakeRequest request{args.scene,         args.output, args.mode,    args.resolution,
-                           args.spp,           args.bands,  args.threads, args.vq,
-                           args.texel_size,    args.seed,   args.params,  args.load,
-                           args.regenerate_uv1};
-    run_prt_bake(request);
-    return;
-  }
-  bake::LightmapExtrasOptions extras_options;
-  if (!args.extras.empty()) extras_options.select(args.extras);
-  extras_options.ao_distance = args.ao_distance;
-  extras_options.obscurance_dmax = args.obscurance_dmax;
-  extras_options.rays = args.extras_rays;
-  extras_options.seed = args.seed;
-  const int threads = threads_for_this_rank(args.threads);
-  extras_options.threads = threads;
-  baked::check_lightmap_output(args.output);  // before the long work, not after
+}
 
-  const bool radiosity = args.method == "radiosity";
+// `--kind prt`: SH transfer (run_prt_bake, cmd_bake_prt.cpp).
+void run_prt_kind_bake(const BakeArgs& args, const CLI::App& cmd) {
+  for (const char* option :
+       {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
+        "--extras-rays", "--method", "--threshold", "--time"})
+    if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
+  // The interreflected transfer is one shooting loop over every patch; the other modes
+  // are not split yet either.
+  refuse_with_several_ranks(true, "bake --kind prt", "its work is not split across ranks");
+  PrtBakeRequest request{args.scene,         args.output, args.mode,    args.resolution,
+                         args.spp,           args.bands,  args.threads, args.vq,
+                         args.texel_size,    args.seed,   args.params,  args.load,
+                         args.regenerate_uv1};
+  run_prt_bake(request);
+}
+
+// What a light-map bake's options and --param keys come to, checked before any long work.
+struct LightmapPlan {
+  bool radiosity = false;  // --method radiosity, else path
+  int threads = 0;
+  atlas::AtlasOptions atlas;
+  bake::LightmapBakeOptions path;
+  bake::RadiosityBakeOptions radiosity_options;
+  bake::LightmapExtrasOptions extras;
+};
+
+// --method and the options that apply to one method only (refused for the other).
+void check_method_options(const BakeArgs& args, bool radiosity) {
   if (!radiosity && args.method != "path")
     throw Error(fmt::format("--method must be path or radiosity, not '{}'", args.method));
-  // Options of the other method are refused rather than ignored.
   if (radiosity && (args.spp_given || args.bounces_given))
     throw Error(fmt::format("{} applies to --method path, not radiosity",
                             args.spp_given ? "--spp" : "--bounces"));
@@ -206,7 +206,11 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   refuse_with_several_ranks(args.time_s > 0.0, fmt::format("--time {}", args.time_s),
                             "the samples taken in the time would depend on the ranks; give "
                             "--spp instead");
+}
 
+// The atlas and baker options from the dedicated options and the --param keys (a key that
+// a dedicated option sets is refused).
+void read_lightmap_params(const BakeArgs& args, LightmapPlan* plan) {
   nlohmann::json j = key_values_to_json(args.params);
   refuse_params_of_options(j, {{"resolution", "--resolution"},
                                {"texel_size", "--texel-size"},
@@ -223,52 +227,194 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   j["basis"] = args.basis;
   j["content"] = args.content;
   j["seed"] = args.seed;
-  if (radiosity) {
+  if (plan->radiosity) {
     j["threshold"] = args.threshold;
   } else {
     j["spp"] = args.spp;
     j["max_bounces"] = args.max_bounces;
   }
   const Params params(j, "--param");
-  const atlas::AtlasOptions atlas_options = atlas::AtlasOptions::from_params(params);
-  bake::LightmapBakeOptions bake_options;
-  bake::RadiosityBakeOptions radiosity_options;
-  if (radiosity) {
-    radiosity_options = bake::RadiosityBakeOptions::from_params(params);
-    radiosity_options.threads = threads;
-    radiosity_options.time_budget_s = args.time_s;
-    extras_options.dilate = radiosity_options.dilate;
+  plan->atlas = atlas::AtlasOptions::from_params(params);
+  if (plan->radiosity) {
+    plan->radiosity_options = bake::RadiosityBakeOptions::from_params(params);
+    plan->radiosity_options.threads = plan->threads;
+    plan->radiosity_options.time_budget_s = args.time_s;
+    plan->extras.dilate = plan->radiosity_options.dilate;
   } else {
-    bake_options = bake::LightmapBakeOptions::from_params(params);
-    bake_options.threads = threads;
-    bake_options.time_budget_s = args.time_s;
-    extras_options.dilate = bake_options.dilate;
+    plan->path = bake::LightmapBakeOptions::from_params(params);
+    plan->path.threads = plan->threads;
+    plan->path.time_budget_s = args.time_s;
+    plan->extras.dilate = plan->path.dilate;
   }
   params.check_all_used();
+}
 
-  ThreadLimit limit(threads);
+LightmapPlan plan_lightmap_bake(const BakeArgs& args) {
+  LightmapPlan plan;
+  if (!args.extras.empty()) plan.extras.select(args.extras);
+  plan.extras.ao_distance = args.ao_distance;
+  plan.extras.obscurance_dmax = args.obscurance_dmax;
+  plan.extras.rays = args.extras_rays;
+  plan.extras.seed = args.seed;
+  plan.threads = threads_for_this_rank(args.threads);
+  plan.extras.threads = plan.threads;
+  baked::check_lightmap_output(args.output);  // before the long work, not after
+  plan.radiosity = args.method == "radiosity";
+  check_method_options(args, plan.radiosity);
+  read_lightmap_params(args, &plan);
+  return plan;
+}
+
+// Before the raster and the bake allocate per texel: a bake the machine cannot hold is
+// refused with the estimate rather than killed an hour later (bake/bake_memory.h).
+void check_lightmap_memory(const atlas::Atlas& atlas, const LightmapPlan& plan, double time_s,
+                           size_t scene_triangles) {
+  const bool radiosity = plan.radiosity;
+  bake::BakeMemoryInput memory;
+  memory.atlas_texels = int64_t(atlas.width) * atlas.height;
+  memory.chart_texels = bake::chart_texel_bound(atlas);
+  memory.layers = bake::layer_count(radiosity ? plan.radiosity_options.basis : plan.path.basis);
+  memory.extra_maps = (plan.extras.ao ? 1 : 0) + (plan.extras.obscurance ? 2 : 0) +
+                      (plan.extras.bent_normal ? 1 : 0);
+  memory.radiosity = radiosity;
+  memory.denoise = !radiosity && plan.path.denoise;
+  memory.timed = !radiosity && time_s > 0.0;
+  memory.scene_triangles = static_cast<int64_t>(scene_triangles);
+  bake::check_bake_memory(bake::estimate_bake_memory(memory), bake::machine_memory());
+}
+
+// The layers by the chosen method; a radiosity bake's own figures go to *radiosity_baked.
+bake::LightmapBake bake_layers(const Scene& scene, const RayTracer& tracer,
+                               const atlas::TexelRaster& raster, const LightmapPlan& plan,
+                               bake::RadiosityBake* radiosity_baked) {
+  if (!plan.radiosity) return bake::bake_lightmap(scene, tracer, raster, plan.path);
+  *radiosity_baked = bake::bake_radiosity(scene, tracer, raster, plan.radiosity_options);
+  bake::LightmapBake baked;
+  baked.basis = radiosity_baked->basis;
+  baked.content = radiosity_baked->content;
+  baked.layers = std::move(radiosity_baked->layers);
+  baked.seconds = radiosity_baked->seconds;
+  baked.stitch_seconds = radiosity_baked->stitch_seconds;
+  baked.seam_edges = radiosity_baked->seam_edges;
+  baked.coplanar_edges = radiosity_baked->coplanar_edges;
+  baked.rays = radiosity_baked->rays;
+  baked.texels = radiosity_baked->texels;
+  return baked;
+}
+
+// The extra maps (--extras) beside the layers, each with its manifest entry.
+bake::LightmapExtras bake_extras(const Scene& scene, const RayTracer& tracer,
+                                 const atlas::TexelRaster& raster,
+                                 const bake::LightmapExtrasOptions& options,
+                                 baked::LightmapSet* set) {
+  bake::LightmapExtras extras = bake::bake_lightmap_extras(scene, tracer, raster, options);
+  const nlohmann::json common = {{"rays", options.rays}, {"seed", options.seed}};
+  auto add = [&](const char* name, Image& image, nlohmann::json entry) {
+    entry.update(common);
+    set->extras.push_back({name, std::move(image), std::move(entry)});
+  };
+  if (options.ao) add("ao", extras.ao, {{"distance", extras.ao_distance}});
+  if (options.obscurance) {
+    add("obscurance", extras.obscurance, {{"d_max", options.obscurance_dmax}});
+    const Color& r = extras.average_albedo;
+    add("obscurance_color", extras.obscurance_color,
+        {{"d_max", options.obscurance_dmax}, {"average_albedo", {r.x, r.y, r.z}}});
+  }
+  if (options.bent_normal)
+    add("bent_normal", extras.bent_normal,
+        {{"distance", extras.ao_distance}, {"encoding", "world-space unit xyz in [-1, 1]"}});
+  return extras;
+}
+
+// The manifest's "bake" object: the method's options and figures.
+nlohmann::json method_manifest(const LightmapPlan& plan, double time_s,
+                               const bake::LightmapBake& baked,
+                               const bake::RadiosityBake& radiosity_baked) {
+  if (plan.radiosity) {
+    const bake::RadiosityBakeOptions& o = plan.radiosity_options;
+    return {{"method", "radiosity"},
+            {"threshold", o.threshold},
+            {"relative_threshold", o.relative_threshold},
+            {"group_size", o.group_size},
+            {"samples_per_surface", o.samples_per_surface},
+            {"sky_rays", o.sky_rays},
+            {"reach_rays", o.reach_rays},
+            {"cluster_ratio", o.cluster_ratio},
+            {"seed", o.seed},
+            {"dilate", o.dilate},
+            {"stitch", o.stitch},
+            {"stitch_coplanar", o.stitch_coplanar},
+            {"shots", radiosity_baked.shots},
+            {"visibility_rays", radiosity_baked.visibility_rays},
+            {"initial_power", radiosity_baked.initial_power},
+            {"relative_unshot", radiosity_baked.relative_unshot},
+            {"relative_shots", radiosity_baked.relative_shots},
+            {"remaining_power", radiosity_baked.remaining_power},
+            {"converged", radiosity_baked.converged}};
+  }
+  const bake::LightmapBakeOptions& o = plan.path;
+  nlohmann::json j = {{"method", "path"},
+                      {"spp", baked.spp},  // samples taken per texel
+                      {"max_bounces", o.max_bounces},
+                      {"seed", o.seed},
+                      {"dilate", o.dilate},
+                      {"stitch", o.stitch},
+                      {"stitch_coplanar", o.stitch_coplanar},
+                      {"denoise", baked.denoised},
+                      {"denoise_strength", o.denoise_strength}};
+  if (time_s > 0.0)
+    j.update(nlohmann::json{{"spp_requested", o.spp},
+                            {"time_budget", time_s},
+                            {"passes", baked.passes},
+                            {"stopped_by_time", baked.stopped_by_time}});
+  return j;
+}
+
+// The one line a finished bake prints.
+void report_lightmap_bake(const Scene& scene, const baked::LightmapSet& set,
+                          const LightmapPlan& plan, const bake::LightmapBake& baked,
+                          const bake::RadiosityBake& radiosity_baked, size_t covered,
+                          double occupancy, double atlas_s, double raster_s,
+                          const std::string& output) {
+  const std::string denoised =
+      baked.denoised ? fmt::format(", denoised in {:.2f}s", baked.denoise_seconds) : "";
+  const std::string method =
+      plan.radiosity
+          ? fmt::format("radiosity {} shots, {:.2g} of the power left unshot{}",
+                        radiosity_baked.shots,
+                        radiosity_baked.initial_power > 0
+                            ? radiosity_baked.remaining_power / radiosity_baked.initial_power
+                            : 0.0,
+                        radiosity_baked.converged ? "" : " (stopped by --time)")
+          : fmt::format("{} spp{}", baked.spp,
+                        baked.stopped_by_time
+                            ? fmt::format(" of {} (stopped by --time)", plan.path.spp)
+                            : "");
+  std::fprintf(stderr,
+               "illum: bake %s, %s/%s: atlas %dx%d, %d charts, texel %.4g m, %zu texels "
+               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %s %.2fs (%.2f Mrays/s)%s "
+               "-> %s\n",
+               scene.name.c_str(), set.basis.c_str(), set.content.c_str(), set.atlas.width,
+               set.atlas.height, set.atlas.chart_count, double(set.atlas.texel_size), covered,
+               100.0 * occupancy, atlas_s, raster_s, method.c_str(), baked.seconds,
+               baked.seconds > 0 ? double(baked.rays) / baked.seconds * 1e-6 : 0.0,
+               denoised.c_str(), output.c_str());
+}
+
+// `--kind lightmap`: chart the atlas, rasterize its texels, bake the layers (path or
+// radiosity) and the extra maps, and write the folder of baked/lightmap_file.h.
+void run_lightmap_bake(const BakeArgs& args) {
+  const LightmapPlan plan = plan_lightmap_bake(args);
+
+  ThreadLimit limit(plan.threads);
   Scene scene = load_scene(args.scene, args.load);
   const size_t scene_triangles = scene.triangle_count();
 
   auto t0 = std::chrono::steady_clock::now();
   baked::LightmapSet set;
-  set.atlas = atlas::chart_scene(scene, atlas_options);
+  set.atlas = atlas::chart_scene(scene, plan.atlas);
   report_reused_uv1(scene, set.atlas);
-  {
-    // Before the raster and the bake allocate per texel: a bake the machine cannot hold is
-    // refused with the estimate rather than killed an hour later (bake/bake_memory.h).
-    bake::BakeMemoryInput memory;
-    memory.atlas_texels = int64_t(set.atlas.width) * set.atlas.height;
-    memory.chart_texels = bake::chart_texel_bound(set.atlas);
-    memory.layers = bake::layer_count(radiosity ? radiosity_options.basis : bake_options.basis);
-    memory.extra_maps = (extras_options.ao ? 1 : 0) + (extras_options.obscurance ? 2 : 0) +
-                        (extras_options.bent_normal ? 1 : 0);
-    memory.radiosity = radiosity;
-    memory.denoise = !radiosity && bake_options.denoise;
-    memory.timed = !radiosity && args.time_s > 0.0;
-    memory.scene_triangles = static_cast<int64_t>(scene_triangles);
-    bake::check_bake_memory(bake::estimate_bake_memory(memory), bake::machine_memory());
-  }
+  check_lightmap_memory(set.atlas, plan, args.time_s, scene_triangles);
   const double atlas_s = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -286,42 +432,10 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
         args.scene, set.atlas.width, set.atlas.height, scene_triangles, set.atlas.chart_count));
 
   log::release();  // the input is checked: the load's warnings may show now
-  bake::LightmapBake baked;
   bake::RadiosityBake radiosity_baked;
-  if (radiosity) {
-    radiosity_baked = bake::bake_radiosity(scene, tracer, raster, radiosity_options);
-    baked.basis = radiosity_baked.basis;
-    baked.content = radiosity_baked.content;
-    baked.layers = std::move(radiosity_baked.layers);
-    baked.seconds = radiosity_baked.seconds;
-    baked.stitch_seconds = radiosity_baked.stitch_seconds;
-    baked.seam_edges = radiosity_baked.seam_edges;
-    baked.coplanar_edges = radiosity_baked.coplanar_edges;
-    baked.rays = radiosity_baked.rays;
-    baked.texels = radiosity_baked.texels;
-  } else {
-    baked = bake::bake_lightmap(scene, tracer, raster, bake_options);
-  }
-
+  bake::LightmapBake baked = bake_layers(scene, tracer, raster, plan, &radiosity_baked);
   bake::LightmapExtras extras;
-  if (extras_options.any()) {
-    extras = bake::bake_lightmap_extras(scene, tracer, raster, extras_options);
-    const nlohmann::json common = {{"rays", extras_options.rays}, {"seed", extras_options.seed}};
-    auto add = [&](const char* name, Image& image, nlohmann::json entry) {
-      entry.update(common);
-      set.extras.push_back({name, std::move(image), std::move(entry)});
-    };
-    if (extras_options.ao) add("ao", extras.ao, {{"distance", extras.ao_distance}});
-    if (extras_options.obscurance) {
-      add("obscurance", extras.obscurance, {{"d_max", extras_options.obscurance_dmax}});
-      const Color& r = extras.average_albedo;
-      add("obscurance_color", extras.obscurance_color,
-          {{"d_max", extras_options.obscurance_dmax}, {"average_albedo", {r.x, r.y, r.z}}});
-    }
-    if (extras_options.bent_normal)
-      add("bent_normal", extras.bent_normal,
-          {{"distance", extras.ao_distance}, {"encoding", "world-space unit xyz in [-1, 1]"}});
-  }
+  if (plan.extras.any()) extras = bake_extras(scene, tracer, raster, plan.extras, &set);
 
   if (!writes_output()) return;  // rank 0 of the MPI job holds the maps
   stop_if_interrupted();
@@ -333,42 +447,7 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
   set.scene_hash = geometry_hash_hex(scene);  // with the atlas applied, as the readers check it
   const double occupancy =
       double(raster.covered()) / (double(set.atlas.width) * double(set.atlas.height));
-  if (radiosity)
-    set.bake = {{"method", "radiosity"},
-                {"threshold", radiosity_options.threshold},
-                {"relative_threshold", radiosity_options.relative_threshold},
-                {"group_size", radiosity_options.group_size},
-                {"samples_per_surface", radiosity_options.samples_per_surface},
-                {"sky_rays", radiosity_options.sky_rays},
-                {"reach_rays", radiosity_options.reach_rays},
-                {"cluster_ratio", radiosity_options.cluster_ratio},
-                {"seed", radiosity_options.seed},
-                {"dilate", radiosity_options.dilate},
-                {"stitch", radiosity_options.stitch},
-                {"stitch_coplanar", radiosity_options.stitch_coplanar},
-                {"shots", radiosity_baked.shots},
-                {"visibility_rays", radiosity_baked.visibility_rays},
-                {"initial_power", radiosity_baked.initial_power},
-                {"relative_unshot", radiosity_baked.relative_unshot},
-                {"relative_shots", radiosity_baked.relative_shots},
-                {"remaining_power", radiosity_baked.remaining_power},
-                {"converged", radiosity_baked.converged}};
-  else {
-    set.bake = {{"method", "path"},
-                {"spp", baked.spp},  // samples taken per texel
-                {"max_bounces", bake_options.max_bounces},
-                {"seed", bake_options.seed},
-                {"dilate", bake_options.dilate},
-                {"stitch", bake_options.stitch},
-                {"stitch_coplanar", bake_options.stitch_coplanar},
-                {"denoise", baked.denoised},
-                {"denoise_strength", bake_options.denoise_strength}};
-    if (args.time_s > 0.0)
-      set.bake.update(nlohmann::json{{"spp_requested", bake_options.spp},
-                                     {"time_budget", args.time_s},
-                                     {"passes", baked.passes},
-                                     {"stopped_by_time", baked.stopped_by_time}});
-  }
+  set.bake = method_manifest(plan, args.time_s, baked, radiosity_baked);
   set.bake.update(nlohmann::json{{"texels", baked.texels},
                                  {"occupancy", occupancy},
                                  {"rays", baked.rays},
@@ -381,34 +460,24 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
                                  {"seam_edges", baked.seam_edges},
                                  {"coplanar_edges", baked.coplanar_edges},
                                  {"stitch_seconds", baked.stitch_seconds}});
-  if (extras_options.any()) {
+  if (plan.extras.any()) {
     set.bake["extras_seconds"] = extras.seconds;
     set.bake["extras_rays"] = extras.rays;
   }
   baked::save_lightmap_set(args.output, set);
+  report_lightmap_bake(scene, set, plan, baked, radiosity_baked, raster.covered(), occupancy,
+                       atlas_s, raster_s, args.output);
+}
 
-  const std::string denoised =
-      baked.denoised ? fmt::format(", denoised in {:.2f}s", baked.denoise_seconds) : "";
-  const std::string method =
-      radiosity ? fmt::format("radiosity {} shots, {:.2g} of the power left unshot{}",
-                              radiosity_baked.shots,
-                              radiosity_baked.initial_power > 0
-                                  ? radiosity_baked.remaining_power / radiosity_baked.initial_power
-                                  : 0.0,
-                              radiosity_baked.converged ? "" : " (stopped by --time)")
-                : fmt::format("{} spp{}", baked.spp,
-                              baked.stopped_by_time
-                                  ? fmt::format(" of {} (stopped by --time)", bake_options.spp)
-                                  : "");
-  std::fprintf(stderr,
-               "illum: bake %s, %s/%s: atlas %dx%d, %d charts, texel %.4g m, %zu texels "
-               "(%.1f%% of the atlas) in %.2fs; raster %.2fs; bake %s %.2fs (%.2f Mrays/s)%s "
-               "-> %s\n",
-               scene.name.c_str(), set.basis.c_str(), set.content.c_str(), set.atlas.width,
-               set.atlas.height, set.atlas.chart_count, double(set.atlas.texel_size),
-               raster.covered(), 100.0 * occupancy, atlas_s, raster_s, method.c_str(),
-               baked.seconds, baked.seconds > 0 ? double(baked.rays) / baked.seconds * 1e-6 : 0.0,
-               denoised.c_str(), args.output.c_str());
+// `illum bake`: one handler per --kind.
+void run_bake(const BakeArgs& args, const CLI::App& cmd) {
+  check_kind_options(args, cmd);
+  if (args.kind == "probes")
+    run_probe_bake(args, cmd);
+  else if (args.kind == "prt")
+    run_prt_kind_bake(args, cmd);
+  else
+    run_lightmap_bake(args);
 }
 
 }  // namespace
