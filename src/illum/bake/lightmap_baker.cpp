@@ -165,6 +165,237 @@ void validate(const Scene& scene, const RayTracer& tracer, const atlas::TexelRas
   atlas::check_texel_raster(scene, raster, "light-map bake");
 }
 
+// A texel's running sums: the layers' and, per variance run, the guide luminance's.
+struct TexelSums {
+  glm::dvec3 sum[kMaxLayers];
+  double batch_sum[kMaxBatches];
+};
+
+// One texel's result: what the root needs to fill the maps, and the counts.
+struct TexelRecord {
+  Color layer[kMaxLayers];
+  float variance;
+  int64_t rays;
+  int64_t dropped;
+};
+
+// The estimate of every texel's layers: paths from the texel's surface point (TexelVertex),
+// one scrambled Sobol' sequence per texel.
+struct TexelEstimator {
+  const atlas::TexelRaster& raster;
+  const PathRadiance& transport;
+  LightmapBasis basis;  // the accumulated one (SH-L1 for dominant)
+  int layers;
+  const std::vector<float>& guide;
+  uint64_t seed;
+  // kIndirect leaves the direct light of delta lights to the real-time renderer; rays never
+  // hit a delta light, so skipping them in next-event estimation at the texel removes
+  // exactly that and nothing else.
+  bool skip_delta;
+
+  // Adds samples [first, end) of texel i's sequence to `sums`; the runs are those of a bake
+  // of `end` samples (sample k in run ⌊k·K/end⌋). Stops early only on Ctrl-C.
+  void add_samples(int64_t i, int first, int end, TexelSums& sums, int64_t* rays,
+                   int64_t* dropped_samples) const {
+    const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+    const TexelVertex v(s, basis);
+    const int batches = variance_batches(end);
+    // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's value
+    // depends only on (seed, x, y, spp), never on scheduling or on the passes.
+    SobolSampler sampler(hash_mix(seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
+    float w[kMaxLayers] = {};
+    for (int k = first; k < end; ++k) {
+      // Texels of a million samples take seconds: poll Ctrl-C inside them too.
+      if ((k & 1023) == 1023 && interrupt_requested()) break;
+      sampler.start_sample(static_cast<uint32_t>(k));
+      Color estimate[kMaxLayers] = {};
+      // The dimensions are drawn in the path tracer's order at a vertex: light
+      // choice, light point, lobe, direction, roulette.
+      const float u_light = sampler.next_1d();
+      const vec2 u_point = sampler.next_2d();
+      const std::optional<DirectLightSample> d = transport.sample_direct(
+          v.p, v.ng, u_light, u_point, skip_delta, [&](const vec3& wi) { return v.valid(wi); },
+          [&](const vec3& wi) { return v.pdf(wi); }, rays);
+      if (d) {
+        v.weights(d->wi, w);
+        const float scale = d->mis_weight / d->pdf;
+        for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
+      }
+      const float u_lobe = sampler.next_1d();
+      const vec2 u_dir = sampler.next_2d();
+      (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
+      const vec3 wi = v.sample(u_lobe, u_dir);
+      const float pdf = v.pdf(wi);
+      if (pdf > 0.0f) {
+        const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
+        const Color li = transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, rays);
+        v.weights(wi, w);
+        for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
+      }
+      bool finite = true;
+      for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
+      if (!finite) {
+        ++*dropped_samples;
+        continue;
+      }
+      double g = 0.0;
+      for (int j = 0; j < layers; ++j) {
+        sums.sum[j] += glm::dvec3(estimate[j]);
+        g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
+      }
+      sums.batch_sum[static_cast<int64_t>(k) * batches / end] += g;
+    }
+  }
+
+  void finish(const TexelSums& sums, int spp, TexelRecord& record) const {
+    const double inv_spp = 1.0 / static_cast<double>(spp);
+    for (int j = 0; j < layers; ++j) record.layer[j] = Color(sums.sum[j] * inv_spp);
+    record.variance =
+        static_cast<float>(batch_variance(sums.batch_sum, variance_batches(spp), spp));
+  }
+
+  void store(int64_t i, const TexelRecord& record, LightmapBake* bake) const {
+    const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
+    for (int j = 0; j < layers; ++j)
+      bake->layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
+    bake->variance.pixel(s.x, s.y)[0] = record.variance;
+  }
+};
+
+// Every texel at options.spp samples. Texels are independent (one sampler each), so they are
+// split across MPI ranks when the run has several (core/work_split.h) with the same values as
+// in one process; the denoiser and dilation afterwards read neighbours and run after every
+// texel is in.
+void bake_planned(const TexelEstimator& estimator, int spp, Progress& progress,
+                  std::atomic<int64_t>& total_rays, std::atomic<int64_t>& dropped,
+                  LightmapBake* bake) {
+  split_items<TexelRecord>(
+      static_cast<int64_t>(estimator.raster.samples.size()), 16,
+      [&](int64_t i) {
+        TexelRecord record{};
+        if (interrupt_requested()) return record;  // Ctrl-C: finish quickly, throw below
+        TexelSums sums{};
+        estimator.add_samples(i, 0, spp, sums, &record.rays, &record.dropped);
+        estimator.finish(sums, spp, record);
+        return record;
+      },
+      [&](int64_t i, const TexelRecord& record) {
+        estimator.store(i, record, bake);
+        total_rays += record.rays;
+        if (record.dropped) dropped += record.dropped;
+        progress.advance(1);
+      });
+  bake->spp = spp;
+}
+
+// At N → 2N samples the old variance runs (sample ranges aligned to powers of two) merge into
+// the new ones that contain them.
+void merge_variance_runs(int done, int end, std::vector<TexelSums>& sums) {
+  const int old_batches = variance_batches(done), new_batches = variance_batches(end);
+  for (TexelSums& t : sums) {
+    double merged[kMaxBatches] = {};
+    for (int b = 0; b < old_batches; ++b) {
+      const int64_t first = (int64_t(b) * done + old_batches - 1) / old_batches;
+      merged[first * new_batches / end] += t.batch_sum[b];
+    }
+    std::copy(merged, merged + kMaxBatches, t.batch_sum);
+  }
+}
+
+// Passes to 1, 2, 4, … samples per texel until options.spp or until the next pass is
+// predicted to end past the time budget. Every texel keeps its sums between passes and
+// continues its own sequence, so a texel's sums after the pass to N are exactly those of a
+// bake at spp = N; a power-of-two prefix of the Sobol' sequence is a complete net, so the
+// estimate where the bake stops keeps the stratification of a planned one.
+void bake_timed(const TexelEstimator& estimator, const LightmapBakeOptions& options,
+                std::chrono::steady_clock::time_point start, Progress& progress,
+                std::atomic<int64_t>& total_rays, std::atomic<int64_t>& dropped,
+                LightmapBake* bake) {
+  const int64_t count = static_cast<int64_t>(estimator.raster.samples.size());
+  std::vector<TexelSums> sums(static_cast<size_t>(count), TexelSums{});
+  bake->passes = 0;
+  int done = 0;
+  double last_pass_s = 0.0;
+  int last_pass_samples = 0;
+  while (done < options.spp) {
+    const int end = done == 0 ? 1 : 2 * done;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (done > 0 && elapsed + last_pass_s * double(end - done) / double(last_pass_samples) >
+                        options.time_budget_s) {
+      bake->stopped_by_time = true;
+      break;
+    }
+    if (done > 0) merge_variance_runs(done, end, sums);
+    const auto pass_start = std::chrono::steady_clock::now();
+    parallel_for(
+        count,
+        [&](int64_t begin, int64_t stop) {
+          int64_t rays = 0, dropped_samples = 0;
+          for (int64_t i = begin; i < stop && !interrupt_requested(); ++i) {
+            estimator.add_samples(i, done, end, sums[static_cast<size_t>(i)], &rays,
+                                  &dropped_samples);
+            progress.advance(end - done);
+          }
+          total_rays += rays;
+          dropped += dropped_samples;
+        },
+        16);
+    if (interrupt_requested()) break;
+    last_pass_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
+    last_pass_samples = end - done;
+    done = end;
+    ++bake->passes;
+  }
+  bake->spp = done;
+  if (!interrupt_requested())
+    parallel_for(
+        count,
+        [&](int64_t begin, int64_t stop) {
+          for (int64_t i = begin; i < stop; ++i) {
+            TexelRecord record{};
+            estimator.finish(sums[static_cast<size_t>(i)], done, record);
+            estimator.store(i, record, bake);
+          }
+        },
+        256);
+  if (bake->stopped_by_time)
+    log::info("bake: stopped by the {:.3g}s budget after {} of {} samples per texel",
+              options.time_budget_s, done, options.spp);
+}
+
+// After the texels: denoise (if asked), dilate, stitch the seams (if asked), and turn SH-L1
+// sums into dominant-direction maps.
+void finish_layers(const Scene& scene, const atlas::TexelRaster& raster,
+                   const LightmapBakeOptions& options, const std::vector<float>& guide,
+                   LightmapBake* bake) {
+  if (options.denoise) {
+    const auto denoise_start = std::chrono::steady_clock::now();
+    LightmapDenoiseOptions denoise_options;
+    denoise_options.luminance_sigma = options.denoise_strength;
+    denoise_lightmap(scene, raster, bake->layers, bake->variance, guide, denoise_options);
+    bake->denoised = true;
+    bake->denoise_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - denoise_start).count();
+    log::info("bake: denoised {} texels in {:.2f}s", raster.samples.size(), bake->denoise_seconds);
+  }
+  for (Image& layer : bake->layers) atlas::dilate(layer, raster, options.dilate);
+  if (options.stitch) {
+    const StitchReport stitched =
+        stitch_baked_layers(scene, raster, bake->layers, options.stitch_coplanar);
+    bake->stitch_seconds = stitched.seconds;
+    bake->seam_edges = stitched.seam_edges;
+    bake->coplanar_edges = stitched.coplanar_edges;
+    log::info(
+        "bake: stitched {} seam edges and {} coplanar edge pairs ({} samples, {} texels, {} CG "
+        "iterations) in {:.2f}s",
+        stitched.seam_edges, stitched.coplanar_edges, stitched.solve.samples, stitched.solve.texels,
+        stitched.solve.iterations, stitched.seconds);
+  }
+  if (options.basis == LightmapBasis::kDominant) bake->layers = dominant_from_sh(bake->layers);
+}
+
 }  // namespace
 
 LightmapBakeOptions LightmapBakeOptions::from_params(const Params& params) {
@@ -217,189 +448,23 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   transport_options.max_bounces = options.max_bounces + 1;
   transport_options.rr_depth = kRrDepth;
   const PathRadiance transport(tracer, lights, transport_options);
-  // kIndirect leaves the direct light of delta lights to the real-time renderer; rays never
-  // hit a delta light, so skipping them in next-event estimation at the texel removes
-  // exactly that and nothing else.
-  const bool skip_delta = options.content == LightmapContent::kIndirect;
+  const TexelEstimator estimator{raster,
+                                 transport,
+                                 accumulated_basis,
+                                 layers,
+                                 guide,
+                                 options.seed,
+                                 options.content == LightmapContent::kIndirect};
 
   const int64_t count = static_cast<int64_t>(raster.samples.size());
   const bool timed = options.time_budget_s > 0.0;
   Progress progress("bake", timed ? count * int64_t(options.spp) : count,
                     options.progress && Progress::stderr_is_terminal());
   std::atomic<int64_t> total_rays{0}, dropped{0};
-
-  // A texel's running sums: the layers' and, per variance run, the guide luminance's.
-  struct TexelSums {
-    glm::dvec3 sum[kMaxLayers];
-    double batch_sum[kMaxBatches];
-  };
-  // Adds samples [first, end) of texel i's sequence to `sums`; the runs are those of a bake
-  // of `end` samples (sample k in run ⌊k·K/end⌋). Stops early only on Ctrl-C.
-  const auto add_samples = [&](int64_t i, int first, int end, TexelSums& sums, int64_t* rays,
-                               int64_t* dropped_samples) {
-    const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-    const TexelVertex v(s, accumulated_basis);
-    const int batches = variance_batches(end);
-    // One scrambled Sobol' sequence per texel, seeded like a pixel's: the texel's value
-    // depends only on (seed, x, y, spp), never on scheduling or on the passes.
-    SobolSampler sampler(
-        hash_mix(options.seed, static_cast<uint64_t>(s.x), static_cast<uint64_t>(s.y)));
-    float w[kMaxLayers] = {};
-    for (int k = first; k < end; ++k) {
-      // Texels of a million samples take seconds: poll Ctrl-C inside them too.
-      if ((k & 1023) == 1023 && interrupt_requested()) break;
-      sampler.start_sample(static_cast<uint32_t>(k));
-      Color estimate[kMaxLayers] = {};
-      // The dimensions are drawn in the path tracer's order at a vertex: light
-      // choice, light point, lobe, direction, roulette.
-      const float u_light = sampler.next_1d();
-      const vec2 u_point = sampler.next_2d();
-      const std::optional<DirectLightSample> d = transport.sample_direct(
-          v.p, v.ng, u_light, u_point, skip_delta, [&](const vec3& wi) { return v.valid(wi); },
-          [&](const vec3& wi) { return v.pdf(wi); }, rays);
-      if (d) {
-        v.weights(d->wi, w);
-        const float scale = d->mis_weight / d->pdf;
-        for (int j = 0; j < layers; ++j) estimate[j] += d->li * (w[j] * scale);
-      }
-      const float u_lobe = sampler.next_1d();
-      const vec2 u_dir = sampler.next_2d();
-      (void)sampler.next_1d();  // the roulette dimension (no roulette at the texel)
-      const vec3 wi = v.sample(u_lobe, u_dir);
-      const float pdf = v.pdf(wi);
-      if (pdf > 0.0f) {
-        const Ray ray{offset_ray_origin(v.p, v.ng, wi), wi};
-        const Color li = transport.incident(ray, PathVertex{v.p, 1, 1, false, pdf}, sampler, rays);
-        v.weights(wi, w);
-        for (int j = 0; j < layers; ++j) estimate[j] += li * (w[j] / pdf);
-      }
-      bool finite = true;
-      for (int j = 0; j < layers; ++j) finite = finite && is_finite(estimate[j]);
-      if (!finite) {
-        ++*dropped_samples;
-        continue;
-      }
-      double g = 0.0;
-      for (int j = 0; j < layers; ++j) {
-        sums.sum[j] += glm::dvec3(estimate[j]);
-        g += double(guide[static_cast<size_t>(j)]) * double(luminance(estimate[j]));
-      }
-      sums.batch_sum[static_cast<int64_t>(k) * batches / end] += g;
-    }
-  };
-
-  // One texel's result: what the root needs to fill the maps, and the counts.
-  struct TexelRecord {
-    Color layer[kMaxLayers];
-    float variance;
-    int64_t rays;
-    int64_t dropped;
-  };
-  const auto finish_texel = [&](const TexelSums& sums, int spp, TexelRecord& record) {
-    const double inv_spp = 1.0 / static_cast<double>(spp);
-    for (int j = 0; j < layers; ++j) record.layer[j] = Color(sums.sum[j] * inv_spp);
-    record.variance =
-        static_cast<float>(batch_variance(sums.batch_sum, variance_batches(spp), spp));
-  };
-  const auto store_texel = [&](int64_t i, const TexelRecord& record) {
-    const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-    for (int j = 0; j < layers; ++j)
-      bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
-    bake.variance.pixel(s.x, s.y)[0] = record.variance;
-    total_rays += record.rays;
-    if (record.dropped) dropped += record.dropped;
-  };
-
-  if (!timed) {
-    // Texels are independent (one sampler each), so they are split across MPI ranks when the
-    // run has several (core/work_split.h) with the same values as in one process; the
-    // denoiser and dilation below read neighbours and run after every texel is in.
-    split_items<TexelRecord>(
-        count, 16,
-        [&](int64_t i) {
-          TexelRecord record{};
-          if (interrupt_requested()) return record;  // Ctrl-C: finish quickly, throw below
-          TexelSums sums{};
-          add_samples(i, 0, options.spp, sums, &record.rays, &record.dropped);
-          finish_texel(sums, options.spp, record);
-          return record;
-        },
-        [&](int64_t i, const TexelRecord& record) {
-          store_texel(i, record);
-          progress.advance(1);
-        });
-    bake.spp = options.spp;
-  } else {
-    // Passes to 1, 2, 4, … samples per texel. Every texel keeps its sums between passes and
-    // continues its own sequence, so a texel's sums after the pass to N are exactly those of
-    // a bake at spp = N; a power-of-two prefix of the Sobol' sequence is a complete net, so
-    // the estimate where the bake stops keeps the stratification of a planned one. Only the
-    // variance runs change with N: at N → 2N the old runs (sample ranges aligned to powers
-    // of two) merge into the new ones that contain them.
-    std::vector<TexelSums> sums(static_cast<size_t>(count), TexelSums{});
-    bake.passes = 0;
-    int done = 0;
-    double last_pass_s = 0.0;
-    int last_pass_samples = 0;
-    while (done < options.spp) {
-      const int end = done == 0 ? 1 : 2 * done;
-      const double elapsed =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (done > 0 && elapsed + last_pass_s * double(end - done) / double(last_pass_samples) >
-                          options.time_budget_s) {
-        bake.stopped_by_time = true;
-        break;
-      }
-      if (done > 0) {
-        const int old_batches = variance_batches(done), new_batches = variance_batches(end);
-        for (TexelSums& t : sums) {
-          double merged[kMaxBatches] = {};
-          for (int b = 0; b < old_batches; ++b) {
-            const int64_t first = (int64_t(b) * done + old_batches - 1) / old_batches;
-            merged[first * new_batches / end] += t.batch_sum[b];
-          }
-          std::copy(merged, merged + kMaxBatches, t.batch_sum);
-        }
-      }
-      const auto pass_start = std::chrono::steady_clock::now();
-      parallel_for(
-          count,
-          [&](int64_t begin, int64_t stop) {
-            int64_t rays = 0, dropped_samples = 0;
-            for (int64_t i = begin; i < stop && !interrupt_requested(); ++i) {
-              add_samples(i, done, end, sums[static_cast<size_t>(i)], &rays, &dropped_samples);
-              progress.advance(end - done);
-            }
-            total_rays += rays;
-            dropped += dropped_samples;
-          },
-          16);
-      if (interrupt_requested()) break;
-      last_pass_s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
-      last_pass_samples = end - done;
-      done = end;
-      ++bake.passes;
-    }
-    bake.spp = done;
-    if (!interrupt_requested())
-      parallel_for(
-          count,
-          [&](int64_t begin, int64_t stop) {
-            for (int64_t i = begin; i < stop; ++i) {
-              TexelRecord record{};
-              finish_texel(sums[static_cast<size_t>(i)], done, record);
-              const atlas::TexelSample& s = raster.samples[static_cast<size_t>(i)];
-              for (int j = 0; j < layers; ++j)
-                bake.layers[static_cast<size_t>(j)].set_rgb(s.x, s.y, record.layer[j]);
-              bake.variance.pixel(s.x, s.y)[0] = record.variance;
-            }
-          },
-          256);
-    if (bake.stopped_by_time)
-      log::info("bake: stopped by the {:.3g}s budget after {} of {} samples per texel",
-                options.time_budget_s, done, options.spp);
-  }
+  if (!timed)
+    bake_planned(estimator, options.spp, progress, total_rays, dropped, &bake);
+  else
+    bake_timed(estimator, options, start, progress, total_rays, dropped, &bake);
   if (interrupt_requested()) {
     progress.finish();
     throw Interrupted{};
@@ -409,31 +474,7 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
   if (const WorkSplit* split = work_split(); split && !split->is_root()) return bake;
   if (dropped.load() > 0)
     log::warn("bake: {} non-finite samples were replaced by black", dropped.load());
-
-  if (options.denoise) {
-    const auto denoise_start = std::chrono::steady_clock::now();
-    LightmapDenoiseOptions denoise_options;
-    denoise_options.luminance_sigma = options.denoise_strength;
-    denoise_lightmap(scene, raster, bake.layers, bake.variance, guide, denoise_options);
-    bake.denoised = true;
-    bake.denoise_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - denoise_start).count();
-    log::info("bake: denoised {} texels in {:.2f}s", raster.samples.size(), bake.denoise_seconds);
-  }
-  for (Image& layer : bake.layers) atlas::dilate(layer, raster, options.dilate);
-  if (options.stitch) {
-    const StitchReport stitched =
-        stitch_baked_layers(scene, raster, bake.layers, options.stitch_coplanar);
-    bake.stitch_seconds = stitched.seconds;
-    bake.seam_edges = stitched.seam_edges;
-    bake.coplanar_edges = stitched.coplanar_edges;
-    log::info(
-        "bake: stitched {} seam edges and {} coplanar edge pairs ({} samples, {} texels, {} CG "
-        "iterations) in {:.2f}s",
-        stitched.seam_edges, stitched.coplanar_edges, stitched.solve.samples, stitched.solve.texels,
-        stitched.solve.iterations, stitched.seconds);
-  }
-  if (options.basis == LightmapBasis::kDominant) bake.layers = dominant_from_sh(bake.layers);
+  finish_layers(scene, raster, options, guide, &bake);
   bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   bake.rays = total_rays.load();
   bake.texels = raster.samples.size();
