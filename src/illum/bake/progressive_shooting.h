@@ -129,6 +129,352 @@ inline float shooting_form_factor(const vec3& source, const vec3& source_normal,
   return cs * cr / (d2 * (kPi * d2 + source_area));
 }
 
+namespace shooting_detail {
+
+// The state of one run of shoot_progressively, its steps as member functions: choose a
+// shooter, gather its group into a source, compute the receivers' form factors, scale them
+// to conserve power, hand the power out.
+template <class Payload, class Transport>
+class Shooter {
+ public:
+  static constexpr int kTotalRuleHeld = -1;  // no shooter: the total rule holds from now on
+  static constexpr int kNothingUnshot = -2;  // no shooter: nothing is left unshot anywhere
+
+  Shooter(const ShootingPatches& set, std::vector<Payload>& total, std::vector<Payload>& unshot,
+          const Transport& transport, const ShootingOptions& options)
+      : set_(set),
+        patches_(set.patches),
+        n_(static_cast<int64_t>(set.patches.size())),
+        total_(total),
+        unshot_(unshot),
+        transport_(transport),
+        options_(options),
+        chunks_((n_ + kChunk - 1) / kChunk),
+        chunk_sum_(static_cast<size_t>(chunks_)) {
+    by_surface_.resize(static_cast<size_t>(std::max(set.surface_count, 0)));
+    for (int64_t i = 0; i < n_; ++i) {
+      const int s = patches_[size_t(i)].surface;
+      ILLUM_CHECK(s >= 0 && s < set.surface_count, "shooting: patch {} has surface {} of {}", i, s,
+                  set.surface_count);
+      by_surface_[size_t(s)].push_back(int(i));
+    }
+    stats.initial_power = sum_chunks([&](int64_t i) { return power_of(i); });
+    // Per patch: Σ magnitude of what it was given to shoot (initial unshot, then reflections).
+    emitted_.resize(static_cast<size_t>(n_));
+    for (int64_t i = 0; i < n_; ++i) emitted_[size_t(i)] = transport_.magnitude(unshot_[size_t(i)]);
+    remaining_ = stats.initial_power;
+    stop_total_ = options.threshold * stats.initial_power;
+    stop_patch_ = stop_total_ / double(n_);
+    factor_.resize(static_cast<size_t>(n_));
+    std::vector<vec3> positions(static_cast<size_t>(n_));
+    for (int64_t i = 0; i < n_; ++i) positions[size_t(i)] = patches_[size_t(i)].position;
+    clusters_ = build_receiver_clusters(positions);
+    task_rays_.resize(clusters_.tasks.size());
+    task_shared_.assign(clusters_.tasks.size(), 0);
+    total_rule_held_ = remaining_ <= stop_total_;
+  }
+
+  ShootingStats stats;
+
+  // Before a shot: true when the loop ends (converged by both rules, or stopped by
+  // max_shots or the time budget); throws Interrupted on Ctrl-C.
+  bool stop_before_shot(std::chrono::steady_clock::time_point t0) {
+    if (total_rule_held_) {
+      stats.relative_unshot = relative_unshot();
+      if (stats.relative_unshot <= options_.relative_threshold) {
+        stats.converged = true;
+        return true;
+      }
+    }
+    if (interrupt_requested()) throw Interrupted{};
+    if (options_.max_shots > 0 && stats.shots >= options_.max_shots) return true;
+    return options_.time_budget_s > 0.0 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+               options_.time_budget_s;
+  }
+
+  // The next shooter, or kTotalRuleHeld / kNothingUnshot.
+  int choose_shooter() {
+    return total_rule_held_ ? largest_relative_share() : largest_sampled_power();
+  }
+
+  // The chosen patch's n×n neighbourhood on its surface as one source; false when the group
+  // has nothing to shoot (its claims are then dropped).
+  bool gather_source(int best) {
+    const ShootingPatch& centre = patches_[size_t(best)];
+    members_.clear();
+    const int lo = -(options_.group_size - 1) / 2, hi = options_.group_size / 2;
+    for (int dy = lo; dy <= hi; ++dy)
+      for (int dx = lo; dx <= hi; ++dx) {
+        const int gx = centre.x + dx, gy = centre.y + dy;
+        if (gx < 0 || gy < 0 || gx >= set_.grid_width || gy >= set_.grid_height) continue;
+        const int32_t j = set_.patch_at[size_t(gy) * size_t(set_.grid_width) + size_t(gx)];
+        if (j >= 0 && patches_[size_t(j)].surface == centre.surface) members_.push_back(j);
+      }
+    power_ = Payload{};
+    source_ = ShotSource{};
+    vec3 normal_sum(0.0f);
+    double area = 0.0;
+    glm::dvec3 position(0.0);
+    member_power_.clear();
+    member_weight_.clear();
+    weight_sum_ = 0.0;
+    for (int j : members_) {
+      const ShootingPatch& m = patches_[size_t(j)];
+      member_power_.push_back(unshot_[size_t(j)] * m.area);
+      member_weight_.push_back(transport_.magnitude(member_power_.back()));
+      weight_sum_ += member_weight_.back();
+      power_ += member_power_.back();
+      position += glm::dvec3(m.position) * double(m.area);
+      normal_sum += m.normal * m.area;
+      area += m.area;
+    }
+    for (int j : members_) unshot_[size_t(j)] = Payload{};
+    if (!(area > 0.0) || !(weight_sum_ > 0.0)) return false;
+    source_.position = vec3(position / area);
+    source_.normal = glm::length(normal_sum) > 0.0f ? glm::normalize(normal_sum) : centre.normal;
+    source_.area = float(area);
+    source_.centre = best;
+    source_.members = members_;
+    centre_surface_ = centre.surface;
+    return true;
+  }
+
+  // Form factors with visibility (members never receive their own shot) into factor_.
+  // Receivers closer than twice the group's size see the members one by one (the group's
+  // single interaction is meant for "widely separated" patches, S002 §3.3.4; near a corner a
+  // 3×3 group at its centre misplaces the light by up to its own size): their factor is the
+  // members' power-weighted mean.
+  void form_factors() {
+    // Far receivers: the factor from the group's centre (no ray). Per receiver as without
+    // clusters: members get nothing, near ones the members' weighted factors, then a ray.
+    auto unoccluded = [&](int32_t i) {
+      const ShootingPatch& r = patches_[size_t(i)];
+      return shooting_form_factor(source_.position, source_.normal, source_.area, r.position,
+                                  r.normal);
+    };
+    auto per_receiver = [&](int32_t i, int64_t* rays) {
+      const ShootingPatch& r = patches_[size_t(i)];
+      float k = 0.0f;
+      if (r.surface == centre_surface_ &&
+          std::find(members_.begin(), members_.end(), int(i)) != members_.end()) {
+        k = 0.0f;
+      } else if (is_near(r)) {
+        double sum = 0.0;
+        for (size_t m = 0; m < members_.size(); ++m)
+          sum += member_weight_[m] * double(member_factor(m, r));
+        k = float(sum / weight_sum_);
+      } else {
+        k = unoccluded(i);
+      }
+      if (k > 0.0f) {
+        ++*rays;
+        if (!transport_.visible(source_, int(i))) k = 0.0f;
+      }
+      return k;
+    };
+    auto visible = [&](int32_t i) { return transport_.visible(source_, int(i)); };
+    const float near2 = near2_();
+    parallel_for(
+        int64_t(clusters_.tasks.size()),
+        [&](int64_t task0, int64_t task1) {
+          for (int64_t t = task0; t < task1; ++t)
+            task_rays_[size_t(t)] =
+                cluster_factors(clusters_, clusters_.tasks[size_t(t)], source_.position,
+                                source_.normal, options_.cluster_ratio, near2, per_receiver,
+                                unoccluded, visible, factor_.data(), &task_shared_[size_t(t)]);
+        },
+        1);
+    for (size_t t = 0; t < task_rays_.size(); ++t) {
+      stats.visibility_tests += task_rays_[t];
+      stats.shared_clusters += task_shared_[t];
+      task_shared_[t] = 0;
+    }
+  }
+
+  // The factors' scale that conserves power (if the transport measures its reach), with its
+  // statistics.
+  float conservation_scale() {
+    const double reach = transport_.reach(source_);
+    if (!(reach >= 0.0)) return 1.0f;
+    const double landed = sum_chunks(
+        [&](int64_t i) { return double(factor_[size_t(i)]) * double(patches_[size_t(i)].area); });
+    const float scale = landed > 0.0 ? float(reach / landed) : 0.0f;
+    if (landed > 0.0) {
+      stats.scale_min = std::min(stats.scale_min, double(scale));
+      stats.scale_max = std::max(stats.scale_max, double(scale));
+      const double w = transport_.magnitude(power_);
+      scale_weighted_ += w * double(scale);
+      scale_weight_ += w;
+    }
+    return scale;
+  }
+
+  // Every receiver gets its share, keeps it in total and re-emits what it reflects.
+  void deliver(float scale) {
+    parallel_for(n_, [&](int64_t i0, int64_t i1) {
+      for (int64_t i = i0; i < i1; ++i) {
+        const float k = factor_[size_t(i)] * scale;
+        if (k <= 0.0f) continue;
+        const ShootingPatch& r = patches_[size_t(i)];
+        Payload arriving{};
+        if (is_near(r)) {
+          for (size_t m = 0; m < members_.size(); ++m) {
+            const float km = member_factor(m, r);
+            if (km > 0.0f) arriving += member_power_[m] * (km * scale);
+          }
+        } else {
+          arriving = power_ * k;
+        }
+        total_[size_t(i)] += arriving;
+        const Payload reflected = transport_.reflect(int(i), arriving);
+        unshot_[size_t(i)] += reflected;
+        emitted_[size_t(i)] += transport_.magnitude(reflected);
+        if constexpr (requires { transport_.received(int(i), source_, arriving); })
+          transport_.received(int(i), source_, arriving);
+      }
+    });
+  }
+
+  // After a shot (or a dropped group): the unshot power left, and whether the total rule
+  // holds now.
+  void end_shot() {
+    remaining_ = sum_chunks([&](int64_t i) { return power_of(i); });
+    total_rule_held_ = total_rule_held_ || remaining_ <= stop_total_;
+    ++stats.shots;
+  }
+
+  // Progress on a log scale of the unshot power between its start and the stop value, in
+  // thousandths.
+  int progress_permille() const {
+    const double log_span =
+        std::log(std::max(1.0, stats.initial_power / std::max(stop_total_, 1e-300)));
+    return remaining_ > 0.0 && log_span > 0.0
+               ? int(1000.0 *
+                     std::clamp(std::log(stats.initial_power / remaining_) / log_span, 0.0, 1.0))
+               : 1000;
+  }
+
+  ShootingStats finish(std::chrono::steady_clock::time_point t0) {
+    if (scale_weight_ > 0.0) stats.scale_mean = scale_weighted_ / scale_weight_;
+    stats.remaining_power = remaining_;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return stats;
+  }
+
+ private:
+  static constexpr int64_t kChunk = 4096;  // fixed reduction chunks: sums independent of threads
+
+  double power_of(int64_t i) const {
+    return transport_.magnitude(unshot_[size_t(i)]) * double(patches_[size_t(i)].area);
+  }
+  double relative_of(int64_t i) const {
+    const double e = emitted_[size_t(i)];
+    return e > 0.0 ? std::min(1.0, transport_.magnitude(unshot_[size_t(i)]) / e) : 0.0;
+  }
+  template <class PerPatch>
+  double sum_chunks(PerPatch&& per_patch) {
+    parallel_for(
+        chunks_,
+        [&](int64_t c0, int64_t c1) {
+          for (int64_t c = c0; c < c1; ++c) {
+            double s = 0.0;
+            for (int64_t i = c * kChunk; i < std::min(n_, (c + 1) * kChunk); ++i) s += per_patch(i);
+            chunk_sum_[size_t(c)] = s;
+          }
+        },
+        1);
+    double s = 0.0;
+    for (double v : chunk_sum_) s += v;
+    return s;
+  }
+  double relative_unshot() {
+    const double lit_area = sum_chunks([&](int64_t i) {
+      return emitted_[size_t(i)] > 0.0 ? double(patches_[size_t(i)].area) : 0.0;
+    });
+    const double weighted =
+        sum_chunks([&](int64_t i) { return relative_of(i) * double(patches_[size_t(i)].area); });
+    return lit_area > 0.0 ? weighted / lit_area : 0.0;
+  }
+
+  // The largest of samples_per_surface random patches of every surface; a full search only
+  // below the per-patch threshold, as CaLight.
+  int largest_sampled_power() {
+    Rng rng(hash_mix(options_.seed, uint64_t(stats.shots), 0x5400u));
+    double best_power = -1.0;
+    int best = -1;
+    for (const std::vector<int>& surface : by_surface_) {
+      if (surface.empty()) continue;
+      for (int k = 0; k < options_.samples_per_surface; ++k) {
+        const int i = surface[rng.next_bounded(uint32_t(surface.size()))];
+        const double p = power_of(i);
+        if (p > best_power) best_power = p, best = i;
+      }
+    }
+    if (!(best_power <= stop_patch_)) return best;
+    ++stats.full_searches;
+    for (int64_t i = 0; i < n_; ++i) {
+      const double p = power_of(i);
+      if (p > best_power) best_power = p, best = int(i);
+    }
+    if (!(best_power <= stop_patch_)) return best;
+    total_rule_held_ = true;
+    return kTotalRuleHeld;
+  }
+
+  // The total rule holds but the mean relative unshot does not: the patch adding most to
+  // that mean shoots (a full search; the shot itself visits every patch anyway).
+  int largest_relative_share() {
+    double best_share = 0.0;
+    int best = -1;
+    for (int64_t i = 0; i < n_; ++i) {
+      const double share = relative_of(i) * double(patches_[size_t(i)].area);
+      if (share > best_share) best_share = share, best = int(i);
+    }
+    if (best < 0) return kNothingUnshot;  // the mean is 0
+    ++stats.relative_shots;
+    return best;
+  }
+
+  float near2_() const { return kNearGroupSizes * kNearGroupSizes * source_.area; }
+  float member_factor(size_t m, const ShootingPatch& r) const {
+    const ShootingPatch& p = patches_[size_t(members_[m])];
+    return shooting_form_factor(p.position, p.normal, p.area, r.position, r.normal);
+  }
+  bool is_near(const ShootingPatch& r) const {
+    const vec3 d = r.position - source_.position;
+    return members_.size() > 1 && glm::dot(d, d) < near2_();
+  }
+
+  const ShootingPatches& set_;
+  const std::vector<ShootingPatch>& patches_;
+  const int64_t n_;
+  std::vector<Payload>& total_;
+  std::vector<Payload>& unshot_;
+  const Transport& transport_;
+  const ShootingOptions& options_;
+  const int64_t chunks_;
+  std::vector<double> chunk_sum_;
+  std::vector<std::vector<int>> by_surface_;
+  std::vector<double> emitted_;
+  double remaining_ = 0.0, stop_total_ = 0.0, stop_patch_ = 0.0;
+  bool total_rule_held_ = false;
+  std::vector<float> factor_;
+  ReceiverClusters clusters_;
+  std::vector<int64_t> task_rays_, task_shared_;
+  // The current shot: its group, their powers and weights, the source.
+  std::vector<int> members_;
+  std::vector<Payload> member_power_;
+  std::vector<double> member_weight_;
+  double weight_sum_ = 0.0;
+  Payload power_{};
+  ShotSource source_;
+  int centre_surface_ = 0;
+  double scale_weighted_ = 0.0, scale_weight_ = 0.0;
+};
+
+}  // namespace shooting_detail
+
 // Transport supplies (all const and safe to call from several threads at once):
 //   double magnitude(const Payload&) const            ≥ 0; the shooter choice's measure
 //   Payload reflect(int receiver, const Payload& arriving) const   what the receiver re-emits
@@ -147,10 +493,8 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
                                   std::vector<Payload>& unshot, const Transport& transport,
                                   const ShootingOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<ShootingPatch>& patches = set.patches;
-  const int64_t n = static_cast<int64_t>(patches.size());
-  ILLUM_CHECK(total.size() == patches.size() && unshot.size() == patches.size(),
-              "shooting: {} patches but {} totals and {} unshot", patches.size(), total.size(),
+  ILLUM_CHECK(total.size() == set.patches.size() && unshot.size() == set.patches.size(),
+              "shooting: {} patches but {} totals and {} unshot", set.patches.size(), total.size(),
               unshot.size());
   if (!(options.threshold >= 0.0) || !std::isfinite(options.threshold))
     throw Error(
@@ -161,283 +505,34 @@ ShootingStats shoot_progressively(const ShootingPatches& set, std::vector<Payloa
   if (options.samples_per_surface < 1 || options.group_size < 1)
     throw Error(fmt::format("shooting: samples_per_surface {} and group_size {} must be ≥ 1",
                             options.samples_per_surface, options.group_size));
-  ShootingStats stats;
-  if (n == 0) {
+  if (set.patches.empty()) {
+    ShootingStats stats;
     stats.converged = true;
     return stats;
   }
-
-  constexpr int64_t kChunk = 4096;  // fixed reduction chunks: sums independent of threads
-  const int64_t chunks = (n + kChunk - 1) / kChunk;
-  std::vector<double> chunk_sum(static_cast<size_t>(chunks));
-  auto power_of = [&](int64_t i) {
-    return transport.magnitude(unshot[size_t(i)]) * double(patches[size_t(i)].area);
-  };
-  auto sum_chunks = [&](auto&& per_patch) {
-    parallel_for(
-        chunks,
-        [&](int64_t c0, int64_t c1) {
-          for (int64_t c = c0; c < c1; ++c) {
-            double s = 0.0;
-            for (int64_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) s += per_patch(i);
-            chunk_sum[size_t(c)] = s;
-          }
-        },
-        1);
-    double s = 0.0;
-    for (double v : chunk_sum) s += v;
-    return s;
-  };
-
-  std::vector<std::vector<int>> by_surface(static_cast<size_t>(std::max(set.surface_count, 0)));
-  for (int64_t i = 0; i < n; ++i) {
-    const int s = patches[size_t(i)].surface;
-    ILLUM_CHECK(s >= 0 && s < set.surface_count, "shooting: patch {} has surface {} of {}", i, s,
-                set.surface_count);
-    by_surface[size_t(s)].push_back(int(i));
-  }
-
-  stats.initial_power = sum_chunks(power_of);
-  // Per patch: Σ magnitude of what it was given to shoot (initial unshot, then reflections).
-  std::vector<double> emitted(static_cast<size_t>(n));
-  for (int64_t i = 0; i < n; ++i) emitted[size_t(i)] = transport.magnitude(unshot[size_t(i)]);
-  auto relative_of = [&](int64_t i) {
-    const double e = emitted[size_t(i)];
-    return e > 0.0 ? std::min(1.0, transport.magnitude(unshot[size_t(i)]) / e) : 0.0;
-  };
-  auto relative_unshot = [&] {
-    const double lit_area = sum_chunks([&](int64_t i) {
-      return emitted[size_t(i)] > 0.0 ? double(patches[size_t(i)].area) : 0.0;
-    });
-    const double weighted =
-        sum_chunks([&](int64_t i) { return relative_of(i) * double(patches[size_t(i)].area); });
-    return lit_area > 0.0 ? weighted / lit_area : 0.0;
-  };
-  double remaining = stats.initial_power;
-  const double stop_total = options.threshold * stats.initial_power;
-  const double stop_patch = stop_total / double(n);
-  std::vector<float> factor(static_cast<size_t>(n));
-  std::vector<vec3> positions(static_cast<size_t>(n));
-  for (int64_t i = 0; i < n; ++i) positions[size_t(i)] = patches[size_t(i)].position;
-  const ReceiverClusters clusters = build_receiver_clusters(positions);
-  std::vector<int64_t> task_rays(clusters.tasks.size()), task_shared(clusters.tasks.size(), 0);
-  std::vector<int> members;
-  std::vector<Payload> member_power;
-  double scale_weighted = 0.0, scale_weight = 0.0;
-  std::vector<double> member_weight;
+  using ShooterT = shooting_detail::Shooter<Payload, Transport>;
+  ShooterT shooter(set, total, unshot, transport, options);
   Progress progress(options.label, 1000, options.progress);
   int shown = 0;
-  const double log_span =
-      std::log(std::max(1.0, stats.initial_power / std::max(stop_total, 1e-300)));
-
-  bool total_rule_held = remaining <= stop_total;
-  while (true) {
-    if (total_rule_held) {
-      stats.relative_unshot = relative_unshot();
-      if (stats.relative_unshot <= options.relative_threshold) {
-        stats.converged = true;
-        break;
-      }
-    }
-    if (interrupt_requested()) throw Interrupted{};
-    if (options.max_shots > 0 && stats.shots >= options.max_shots) break;
-    if (options.time_budget_s > 0.0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
-            options.time_budget_s)
+  while (!shooter.stop_before_shot(t0)) {
+    const int best = shooter.choose_shooter();
+    if (best == ShooterT::kTotalRuleHeld) continue;
+    if (best == ShooterT::kNothingUnshot) {
+      shooter.stats.converged = true;
       break;
-
-    int best = -1;
-    if (!total_rule_held) {
-      // Shooter: the largest of samples_per_surface random patches of every surface.
-      Rng rng(hash_mix(options.seed, uint64_t(stats.shots), 0x5400u));
-      double best_power = -1.0;
-      for (const std::vector<int>& surface : by_surface) {
-        if (surface.empty()) continue;
-        for (int k = 0; k < options.samples_per_surface; ++k) {
-          const int i = surface[rng.next_bounded(uint32_t(surface.size()))];
-          const double p = power_of(i);
-          if (p > best_power) best_power = p, best = i;
-        }
-      }
-      if (best_power <= stop_patch) {  // full search only below the threshold, as CaLight
-        ++stats.full_searches;
-        for (int64_t i = 0; i < n; ++i) {
-          const double p = power_of(i);
-          if (p > best_power) best_power = p, best = int(i);
-        }
-        if (best_power <= stop_patch) {
-          total_rule_held = true;
-          continue;
-        }
-      }
-    } else {
-      // The total rule holds but the mean relative unshot does not: the patch adding most
-      // to that mean shoots (a full search; the shot itself visits every patch anyway).
-      double best_share = 0.0;
-      for (int64_t i = 0; i < n; ++i) {
-        const double share = relative_of(i) * double(patches[size_t(i)].area);
-        if (share > best_share) best_share = share, best = int(i);
-      }
-      if (best < 0) {  // nothing unshot anywhere: the mean is 0
-        stats.converged = true;
-        break;
-      }
-      ++stats.relative_shots;
     }
-
-    // The chosen patch's n×n neighbourhood on its surface shoots as one source.
-    const ShootingPatch& centre = patches[size_t(best)];
-    members.clear();
-    const int lo = -(options.group_size - 1) / 2, hi = options.group_size / 2;
-    for (int dy = lo; dy <= hi; ++dy)
-      for (int dx = lo; dx <= hi; ++dx) {
-        const int gx = centre.x + dx, gy = centre.y + dy;
-        if (gx < 0 || gy < 0 || gx >= set.grid_width || gy >= set.grid_height) continue;
-        const int32_t j = set.patch_at[size_t(gy) * size_t(set.grid_width) + size_t(gx)];
-        if (j >= 0 && patches[size_t(j)].surface == centre.surface) members.push_back(j);
-      }
-    Payload power{};
-    ShotSource source;
-    vec3 normal_sum(0.0f);
-    double area = 0.0;
-    glm::dvec3 position(0.0);
-    member_power.clear();
-    member_weight.clear();
-    double weight_sum = 0.0;
-    for (int j : members) {
-      const ShootingPatch& m = patches[size_t(j)];
-      member_power.push_back(unshot[size_t(j)] * m.area);
-      member_weight.push_back(transport.magnitude(member_power.back()));
-      weight_sum += member_weight.back();
-      power += member_power.back();
-      position += glm::dvec3(m.position) * double(m.area);
-      normal_sum += m.normal * m.area;
-      area += m.area;
-    }
-    if (!(area > 0.0) || !(weight_sum > 0.0)) {  // nothing to shoot: drop what they claim
-      for (int j : members) unshot[size_t(j)] = Payload{};
-      remaining = sum_chunks(power_of);
-      total_rule_held = total_rule_held || remaining <= stop_total;
-      ++stats.shots;
+    if (!shooter.gather_source(best)) {  // nothing to shoot: what the group claims is dropped
+      shooter.end_shot();
       continue;
     }
-    source.position = vec3(position / area);
-    source.normal = glm::length(normal_sum) > 0.0f ? glm::normalize(normal_sum) : centre.normal;
-    source.area = float(area);
-    source.centre = best;
-    source.members = members;
-    for (int j : members) unshot[size_t(j)] = Payload{};
-
-    // Form factors with visibility (members never receive their own shot), then (if the
-    // transport asks) scaled to conserve power. Receivers closer than twice the group's size
-    // see the members one by one (the group's single interaction is meant for "widely
-    // separated" patches, S002 §3.3.4; near a corner a 3×3 group at its centre misplaces
-    // the light by up to its own size): their factor is the members' power-weighted mean.
-    const float near2 = kNearGroupSizes * kNearGroupSizes * source.area;
-    auto member_factor = [&](size_t m, const ShootingPatch& r) {
-      const ShootingPatch& p = patches[size_t(members[m])];
-      return shooting_form_factor(p.position, p.normal, p.area, r.position, r.normal);
-    };
-    auto is_near = [&](const ShootingPatch& r) {
-      const vec3 d = r.position - source.position;
-      return members.size() > 1 && glm::dot(d, d) < near2;
-    };
-    // Far receivers: the factor from the group's centre (no ray). Per receiver as without
-    // clusters: members get nothing, near ones the members' weighted factors, then a ray.
-    auto unoccluded = [&](int32_t i) {
-      const ShootingPatch& r = patches[size_t(i)];
-      return shooting_form_factor(source.position, source.normal, source.area, r.position,
-                                  r.normal);
-    };
-    auto per_receiver = [&](int32_t i, int64_t* rays) {
-      const ShootingPatch& r = patches[size_t(i)];
-      float k = 0.0f;
-      if (r.surface == centre.surface &&
-          std::find(members.begin(), members.end(), int(i)) != members.end()) {
-        k = 0.0f;
-      } else if (is_near(r)) {
-        double sum = 0.0;
-        for (size_t m = 0; m < members.size(); ++m)
-          sum += member_weight[m] * double(member_factor(m, r));
-        k = float(sum / weight_sum);
-      } else {
-        k = unoccluded(i);
-      }
-      if (k > 0.0f) {
-        ++*rays;
-        if (!transport.visible(source, int(i))) k = 0.0f;
-      }
-      return k;
-    };
-    auto visible = [&](int32_t i) { return transport.visible(source, int(i)); };
-    parallel_for(
-        int64_t(clusters.tasks.size()),
-        [&](int64_t task0, int64_t task1) {
-          for (int64_t t = task0; t < task1; ++t)
-            task_rays[size_t(t)] =
-                cluster_factors(clusters, clusters.tasks[size_t(t)], source.position, source.normal,
-                                options.cluster_ratio, near2, per_receiver, unoccluded, visible,
-                                factor.data(), &task_shared[size_t(t)]);
-        },
-        1);
-    for (size_t t = 0; t < task_rays.size(); ++t) {
-      stats.visibility_tests += task_rays[t];
-      stats.shared_clusters += task_shared[t];
-      task_shared[t] = 0;
-    }
-    float scale = 1.0f;
-    const double reach = transport.reach(source);
-    if (reach >= 0.0) {
-      const double landed = sum_chunks(
-          [&](int64_t i) { return double(factor[size_t(i)]) * double(patches[size_t(i)].area); });
-      scale = landed > 0.0 ? float(reach / landed) : 0.0f;
-      if (landed > 0.0) {
-        stats.scale_min = std::min(stats.scale_min, double(scale));
-        stats.scale_max = std::max(stats.scale_max, double(scale));
-        const double w = transport.magnitude(power);
-        scale_weighted += w * double(scale);
-        scale_weight += w;
-      }
-    }
-    parallel_for(n, [&](int64_t i0, int64_t i1) {
-      for (int64_t i = i0; i < i1; ++i) {
-        const float k = factor[size_t(i)] * scale;
-        if (k <= 0.0f) continue;
-        const ShootingPatch& r = patches[size_t(i)];
-        Payload arriving{};
-        if (is_near(r)) {
-          for (size_t m = 0; m < members.size(); ++m) {
-            const float km = member_factor(m, r);
-            if (km > 0.0f) arriving += member_power[m] * (km * scale);
-          }
-        } else {
-          arriving = power * k;
-        }
-        total[size_t(i)] += arriving;
-        const Payload reflected = transport.reflect(int(i), arriving);
-        unshot[size_t(i)] += reflected;
-        emitted[size_t(i)] += transport.magnitude(reflected);
-        if constexpr (requires { transport.received(int(i), source, arriving); })
-          transport.received(int(i), source, arriving);
-      }
-    });
-    remaining = sum_chunks(power_of);
-    total_rule_held = total_rule_held || remaining <= stop_total;
-    ++stats.shots;
-
-    // Progress on a log scale of the unshot power between its start and the stop value.
-    const int now =
-        remaining > 0.0 && log_span > 0.0
-            ? int(1000.0 *
-                  std::clamp(std::log(stats.initial_power / remaining) / log_span, 0.0, 1.0))
-            : 1000;
+    shooter.form_factors();
+    shooter.deliver(shooter.conservation_scale());
+    shooter.end_shot();
+    const int now = shooter.progress_permille();
     if (now > shown) progress.advance(now - shown), shown = now;
   }
   progress.finish();
-  if (scale_weight > 0.0) stats.scale_mean = scale_weighted / scale_weight;
-  stats.remaining_power = remaining;
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return stats;
+  return shooter.finish(t0);
 }
 
 }  // namespace illum::bake
