@@ -402,19 +402,31 @@ void Context::immediate(const std::function<void(VkCommandBuffer)>& record) {
     VkCommandBuffer c;
     ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
   } guard{device_, immediate_pool_, cmd};
+  record_one_time(cmd, record);
+  submit_and_wait(cmd, immediate_fence_);
+}
+
+void record_one_time(VkCommandBuffer cmd, const std::function<void(VkCommandBuffer)>& record) {
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   ILLUM_VK(vkBeginCommandBuffer(cmd, &begin));
   record(cmd);
   ILLUM_VK(vkEndCommandBuffer(cmd));
+}
+
+void Context::submit_and_wait(VkCommandBuffer cmd, VkFence fence) const {
   VkCommandBufferSubmitInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
   cb.commandBuffer = cmd;
   VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
   submit.commandBufferInfoCount = 1;
   submit.pCommandBufferInfos = &cb;
-  ILLUM_VK(vkQueueSubmit2(queue_, 1, &submit, immediate_fence_));
-  ILLUM_VK(vkWaitForFences(device_, 1, &immediate_fence_, VK_TRUE, UINT64_MAX));
-  ILLUM_VK(vkResetFences(device_, 1, &immediate_fence_));
+  ILLUM_VK(vkQueueSubmit2(queue_, 1, &submit, fence));
+  wait_and_reset(fence);
+}
+
+void Context::wait_and_reset(VkFence fence) const {
+  ILLUM_VK(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX));
+  ILLUM_VK(vkResetFences(device_, 1, &fence));
 }
 
 void Context::wait_idle() const {

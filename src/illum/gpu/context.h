@@ -30,6 +30,9 @@ struct ContextOptions {
   static bool default_validation();
 };
 
+// Begins `cmd` for one submission, records into it with `record` and ends it.
+void record_one_time(VkCommandBuffer cmd, const std::function<void(VkCommandBuffer)>& record);
+
 class Context {
  public:
   explicit Context(const ContextOptions& options = {});
@@ -79,6 +82,10 @@ class Context {
 
   // Records with `record` into a one-time command buffer, submits it and waits.
   void immediate(const std::function<void(VkCommandBuffer)>& record);
+  // Submits `cmd` alone to the queue signalling `fence`, waits for the fence and resets it.
+  void submit_and_wait(VkCommandBuffer cmd, VkFence fence) const;
+  // Waits for `fence` (signalled by a submission) and resets it.
+  void wait_and_reset(VkFence fence) const;
   void wait_idle() const;
 
  private:

@@ -276,20 +276,11 @@ struct Renderer::Impl {
     for (const auto& t : techniques) t->update();
     timer.reserve(graph->timer_scopes());
     ILLUM_VK(vkResetCommandBuffer(cmd, 0));
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    ILLUM_VK(vkBeginCommandBuffer(cmd, &begin));
-    timer.reset(cmd);
-    graph->execute(cmd, frame_index++, &timer);
-    ILLUM_VK(vkEndCommandBuffer(cmd));
-    VkCommandBufferSubmitInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
-    cb.commandBuffer = cmd;
-    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit.commandBufferInfoCount = 1;
-    submit.pCommandBufferInfos = &cb;
-    ILLUM_VK(vkQueueSubmit2(context.queue(), 1, &submit, fence));
-    ILLUM_VK(vkWaitForFences(context.device(), 1, &fence, VK_TRUE, UINT64_MAX));
-    ILLUM_VK(vkResetFences(context.device(), 1, &fence));
+    gpu::record_one_time(cmd, [&](VkCommandBuffer c) {
+      timer.reset(c);
+      graph->execute(c, frame_index++, &timer);
+    });
+    context.submit_and_wait(cmd, fence);
     // Per-light scopes repeat under their pass: one sum per name and depth.
     times.clear();
     for (const gpu::PassTime& t : timer.resolve()) {
