@@ -12,6 +12,7 @@
 #include "illum/realtime/stencil_shadows.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/depth_prepass.h"
 #include "illum/realtime/techniques/frame_targets.h"
 #include "illum/realtime/techniques/techniques.h"
 
@@ -68,15 +69,8 @@ class Deferred final : public FramePipeline {
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
     const VkPipelineLayout layout = layout_.handle();
     gpu::GraphicsPipelineDesc g = gbuffer_pass_desc(ctx.depth_format);
-    // Depth pre-pass as in the forward path: each pixel then writes its 28 bytes once.
-    gpu::GraphicsPipelineDesc pre = g;
-    pre.vertex_shader = "depth_only.vert";  // forward.vert's transform, positions only
-    pre.vertex_input = mesh_vertex_input(true);
-    pre.fragment_shader = "depth_only.frag";  // empty: see the shader
-    pre.color_formats = {};                   // a rendering of its own: depth and stencil only
-    pre.color_write = false;
-    prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
-    prepass_count_ = CountingPipelines(ctx.gpu, layout, pre);
+    // Depth pre-pass as in the forward path: each pixel then writes its G-buffer bytes once.
+    prepass_ = DepthPrepass(ctx.gpu, layout, g);
     g.depth_write = false;
     g.depth_compare = VK_COMPARE_OP_EQUAL;
     gbuffer_ = gpu::Pipeline(ctx.gpu, layout, g);
@@ -145,16 +139,10 @@ class Deferred final : public FramePipeline {
       r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT;
       graph.add_resource(r);
     }
-    // The depth pre-pass is a pass of its own so it is timed (and bounded) on its own.
-    PassDesc pre;
-    pre.name = "depth_prepass";
-    pre.technique = name();
-    pre.phase = Phase::kGeometry;
-    // Occlusion culling samples the depth between the pass's two halves, in a scope beside it.
-    pre.accesses = {{"depth", kDepthAttachment}, {"depth", kSampled, kComputeShader}};
-    pre.nested_scopes = 2;
-    pre.record = [this](PassContext& pass) { record_prepass(pass); };
-    graph.add_pass(std::move(pre));
+    graph.add_pass(DepthPrepass::pass(name(), [this](PassContext& pass) {
+      prepass_.record(ctx_, pass, {ctx_.width(), ctx_.height()}, layout_.handle(),
+                      ctx_.shading_sets(set_));
+    }));
     PassDesc g;
     g.name = "gbuffer";
     g.technique = name();
@@ -223,20 +211,6 @@ class Deferred final : public FramePipeline {
  private:
   void bind_sets(VkCommandBuffer c, VkPipelineBindPoint point) const {
     bind_shading_sets(c, point, layout_.handle(), ctx_.globals, ctx_.shading_sets(set_));
-  }
-
-  void record_prepass(PassContext& pass) {
-    DrawTargets t;
-    t.depth = ctx_.resources.image("depth").layer_view(0);
-    t.depth_resource = "depth";
-    t.stencil = true;
-    t.extent = {ctx_.width(), ctx_.height()};
-    using D = gpu::RasterFill::Depth;
-    const uint32_t w = t.extent.width, h = t.extent.height;
-    ctx_.drawer.render_counted(
-        pass, t, prepass_, prepass_count_, layout_.handle(), ctx_.shading_sets(set_),
-        SceneView::camera(ctx_.view().view_proj, true, SceneView::Occlusion::kTwoPhase),
-        {w, h, {}, ctx_.depth_format, D::kWrite}, {w, h, {}, ctx_.depth_format, D::kReject});
   }
 
   void record_gbuffer(PassContext& pass) {
@@ -318,10 +292,11 @@ class Deferred final : public FramePipeline {
   gpu::DescriptorSetLayout set_layout_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
-  gpu::Pipeline prepass_, gbuffer_, compute_light_, light_stencil_, light_volume_,
-      light_fullscreen_, masked_light_;
+  DepthPrepass prepass_;
+  gpu::Pipeline gbuffer_, compute_light_, light_stencil_, light_volume_, light_fullscreen_,
+      masked_light_;
   gpu::Buffer sphere_vertices_, sphere_indices_;
-  CountingPipelines prepass_count_, gbuffer_count_;
+  CountingPipelines gbuffer_count_;
   uint32_t sphere_index_count_ = 0;
 };
 

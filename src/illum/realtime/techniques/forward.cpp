@@ -9,6 +9,7 @@
 #include "illum/realtime/stencil_shadows.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/depth_prepass.h"
 #include "illum/realtime/techniques/frame_targets.h"
 #include "illum/realtime/techniques/techniques.h"
 
@@ -29,17 +30,7 @@ class Forward final : public FramePipeline {
     fwd.color_formats = {kHdrFormat};
     fwd.depth_format = ctx.depth_format;
     fwd.stencil_format = ctx.depth_format;
-    // Depth pre-pass: forward.vert's transform on the packed positions (depth_only.vert, so
-    // depths repeat exactly), an empty fragment stage; the shading pass then runs each pixel's
-    // fragment shader once, where Sibenik's nave would otherwise shade every overlapping layer.
-    gpu::GraphicsPipelineDesc pre = fwd;
-    pre.vertex_shader = "depth_only.vert";  // forward.vert's transform, positions only
-    pre.vertex_input = mesh_vertex_input(true);
-    pre.fragment_shader = "depth_only.frag";  // empty: see the shader
-    pre.color_formats = {};                   // a rendering of its own: depth and stencil only
-    pre.color_write = false;
-    prepass_ = gpu::Pipeline(ctx.gpu, layout, pre);
-    prepass_count_ = CountingPipelines(ctx.gpu, layout, pre);
+    prepass_ = DepthPrepass(ctx.gpu, layout, fwd);
     fwd.depth_write = false;
     fwd.depth_compare = VK_COMPARE_OP_EQUAL;
     shade_ = gpu::Pipeline(ctx.gpu, layout, fwd);
@@ -65,28 +56,9 @@ class Forward final : public FramePipeline {
     graph.add_resource(hdr_target());
     graph.add_resource(depth_target(ctx_.depth_format));
     const VkExtent2D extent{ctx_.width(), ctx_.height()};
-    // The depth pre-pass is a pass of its own so it is timed (and bounded) on its own.
-    PassDesc pre;
-    pre.name = "depth_prepass";
-    pre.technique = name();
-    pre.phase = Phase::kGeometry;
-    // Occlusion culling samples the depth between the pass's two halves, in a scope beside it.
-    pre.accesses = {{"depth", kDepthAttachment}, {"depth", kSampled, kComputeShader}};
-    pre.nested_scopes = 2;
-    pre.record = [this, extent](PassContext& pass) {
-      DrawTargets t;
-      t.depth = ctx_.resources.image("depth").layer_view(0);
-      t.depth_resource = "depth";
-      t.stencil = true;
-      t.extent = extent;
-      using D = gpu::RasterFill::Depth;
-      ctx_.drawer.render_counted(
-          pass, t, prepass_, prepass_count_, ctx_.globals.default_layout(), ctx_.shading_sets(),
-          SceneView::camera(ctx_.view().view_proj, true, SceneView::Occlusion::kTwoPhase),
-          {extent.width, extent.height, {}, ctx_.depth_format, D::kWrite},
-          {extent.width, extent.height, {}, ctx_.depth_format, D::kReject});
-    };
-    graph.add_pass(std::move(pre));
+    graph.add_pass(DepthPrepass::pass(name(), [this, extent](PassContext& pass) {
+      prepass_.record(ctx_, pass, extent, ctx_.globals.default_layout(), ctx_.shading_sets());
+    }));
     PassDesc p;
     p.name = "forward";
     p.technique = name();
@@ -132,8 +104,9 @@ class Forward final : public FramePipeline {
 
  private:
   bool masked_ = false;
-  gpu::Pipeline prepass_, shade_, masked_light_;
-  CountingPipelines prepass_count_, shade_count_;
+  DepthPrepass prepass_;
+  gpu::Pipeline shade_, masked_light_;
+  CountingPipelines shade_count_;
   std::unique_ptr<ShadingBound> shading_bound_;  // built on the first measure_shading()
 };
 
