@@ -369,6 +369,148 @@ PrtPatches vertex_patches(const Scene& scene) {
   return out;
 }
 
+namespace {
+
+// The interreflected transfer: the direct `transfer` of the patches that `make_patches`
+// builds, shot between them until converged (prt_shooting.h); the shooting's figures go to
+// `bake` (its shares and back sides when `keep_shares`).
+template <class MakePatches>
+void shoot_bounces(const RayTracer& tracer, MakePatches make_patches, int payload,
+                   const TransferShootingOptions& shooting, bool keep_shares,
+                   std::vector<float>& transfer, std::atomic<int64_t>& rays, PrtBake* bake) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const PrtPatches set = make_patches();
+  const TransferShootingResult shot =
+      shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
+  bake->shoot_rounds += shot.rounds;
+  bake->unshot_fraction = std::max(bake->unshot_fraction, shot.unshot_fraction);
+  bake->relative_unshot = std::max(bake->relative_unshot, shot.relative_unshot);
+  if (keep_shares) {
+    bake->shot_shares = shot.shares;
+    bake->back_sides = shot.back_sides;
+  }
+  rays += shot.rays;
+  bake->shoot_seconds += seconds_since(t0);
+}
+
+// The light-map's seam stitching, per coefficient: E/π = Σ T_i L_i is linear in T, so T's
+// lookups agreeing on both sides of a seam makes the relit light-map's agree for every
+// lighting. The same matrix for every coefficient; solved a few coefficients at a time,
+// which gives the same result (each channel has its own CG) in less memory.
+void stitch_transfer(const Scene& scene, const atlas::TexelRaster& raster, bool coplanar,
+                     std::vector<Image>& layers, PrtBake* bake) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Seams seams = find_seams(scene, raster.width, raster.height, {.coplanar = coplanar});
+  constexpr int kCoefficientsPerSolve = 8;
+  const int count = int(layers.size());
+  for (int first = 0; first < count; first += kCoefficientsPerSolve) {
+    const int last = std::min(count, first + kCoefficientsPerSolve);
+    std::vector<Image> some(std::make_move_iterator(layers.begin() + first),
+                            std::make_move_iterator(layers.begin() + last));
+    stitch_seams(seams, raster, some);
+    std::move(some.begin(), some.end(), layers.begin() + first);
+  }
+  bake->seam_edges = seams.edges;
+  bake->coplanar_edges = seams.coplanar_pairs;
+  bake->stitch_seconds = seconds_since(t0);
+}
+
+// Per texel (the SHL-map): the transfer at every raster sample, dilated and stitched.
+void bake_texel_transfer(const Scene& scene, const RayTracer& tracer,
+                         const atlas::TexelRaster& raster, const PrtBakeOptions& options,
+                         const TransferShootingOptions& shooting, std::atomic<int64_t>& rays,
+                         PrtBake* bake) {
+  const int count = sh::coefficient_count(options.bands);
+  const int payload = 3 * count;
+  std::vector<BakePoint> points(raster.samples.size());
+  for (size_t k = 0; k < points.size(); ++k) {
+    const atlas::TexelSample& s = raster.samples[k];
+    points[k] = {s.position, s.normal, s.geometric_normal, uint64_t(s.x), uint64_t(s.y)};
+  }
+  NormalSamples texel_normals;
+  if (options.normal_maps)
+    texel_normals = [&](size_t k, std::vector<vec3>& normals) {
+      texel_normal_samples(
+          scene, raster, raster.samples[k], options.normal_map_samples,
+          hash_mix(options.seed, points[k].stream_a, points[k].stream_b ^ kNormalMapStream),
+          normals);
+    };
+  std::vector<float> transfer;
+  bake_direct(tracer, points, texel_normals, options, "prt texels", transfer, rays);
+  if (options.mode == PrtMode::kInterreflected)
+    shoot_bounces(
+        tracer, [&] { return texel_patches(scene, raster); }, payload, shooting, true, transfer,
+        rays, bake);
+  bake->texel_transfer = TransferMap(raster.width, raster.height, payload);
+  // Dilated one coefficient (an RGB image) at a time: core Images hold up to 4 channels.
+  std::vector<Image> layers;
+  for (int i = 0; i < count; ++i) {
+    Image layer(raster.width, raster.height, 3);
+    for (size_t k = 0; k < points.size(); ++k)
+      std::copy_n(&transfer[k * size_t(payload) + size_t(i) * 3], 3,
+                  layer.pixel(raster.samples[k].x, raster.samples[k].y));
+    atlas::dilate(layer, raster, options.dilate);
+    layers.push_back(std::move(layer));
+  }
+  if (options.stitch) stitch_transfer(scene, raster, options.stitch_coplanar, layers, bake);
+  for (int i = 0; i < count; ++i)
+    for (int y = 0; y < raster.height; ++y)
+      for (int x = 0; x < raster.width; ++x)
+        std::copy_n(layers[size_t(i)].pixel(x, y), 3,
+                    bake->texel_transfer.pixel(x, y) + size_t(i) * 3);
+  bake->texels = points.size();
+}
+
+// Per vertex: the transfer at every vertex of every instance, from just inside its triangles.
+void bake_vertex_transfer(const Scene& scene, const RayTracer& tracer,
+                          const PrtBakeOptions& options, const TransferShootingOptions& shooting,
+                          std::atomic<int64_t>& rays, PrtBake* bake) {
+  const int payload = 3 * sh::coefficient_count(options.bands);
+  std::vector<size_t> base(scene.instances.size() + 1, 0);
+  for (size_t i = 0; i < scene.instances.size(); ++i)
+    base[i + 1] = base[i] + scene.meshes[size_t(scene.instances[i].mesh)].vertex_count();
+  std::vector<BakePoint> points(base.back());
+  std::vector<int> point_instance(base.back());
+  std::vector<VertexRing> rings(options.normal_maps ? scene.instances.size() : 0);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    std::fill(point_instance.begin() + std::ptrdiff_t(base[i]),
+              point_instance.begin() + std::ptrdiff_t(base[i + 1]), int(i));
+    if (options.normal_maps) rings[i] = vertex_ring(scene.meshes[size_t(scene.instances[i].mesh)]);
+    const Instance& inst = scene.instances[i];
+    const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(inst.transform)));
+    const std::vector<vec3> origin = vertex_ray_origins(inst, mesh);
+    for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const vec3 n = glm::normalize(normal_matrix * mesh.normals[v]);
+      points[base[i] + v] = {origin[v], n, n, kVertexStream ^ i, v};
+    }
+  }
+  NormalSamples vertex_normals;
+  if (options.normal_maps)
+    vertex_normals = [&](size_t k, std::vector<vec3>& normals) {
+      const int i = point_instance[k];
+      vertex_normal_samples(
+          scene, i, uint32_t(k - base[size_t(i)]), points[k].normal, rings[size_t(i)],
+          options.normal_map_samples,
+          hash_mix(options.seed, points[k].stream_a, points[k].stream_b ^ kNormalMapStream),
+          normals);
+    };
+  std::vector<float> transfer;
+  bake_direct(tracer, points, vertex_normals, options, "prt vertices", transfer, rays);
+  if (options.mode == PrtMode::kInterreflected)
+    shoot_bounces(
+        tracer, [&] { return vertex_patches(scene); }, payload, shooting, !options.texels, transfer,
+        rays, bake);
+  bake->vertex_transfer.resize(scene.instances.size());
+  for (size_t i = 0; i < scene.instances.size(); ++i)
+    bake->vertex_transfer[i].assign(
+        transfer.begin() + std::ptrdiff_t(base[i] * size_t(payload)),
+        transfer.begin() + std::ptrdiff_t(base[i + 1] * size_t(payload)));
+  bake->vertices = points.size();
+}
+
+}  // namespace
+
 PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::TexelRaster& raster,
                  const PrtBakeOptions& options) {
   options.validate();
@@ -381,9 +523,6 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
                               mesh.normals.size(), mesh.positions.size()));
   ThreadLimit thread_limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
-  const int count = sh::coefficient_count(options.bands);
-  const int payload = 3 * count;
-  const bool bounce = options.mode == PrtMode::kInterreflected;
 
   PrtBake bake;
   bake.bands = options.bands;
@@ -395,132 +534,8 @@ PrtBake bake_prt(const Scene& scene, const RayTracer& tracer, const atlas::Texel
   shooting.relative_tolerance = options.shoot_relative_tolerance;
   shooting.max_rounds = options.max_rounds;
   shooting.seed = hash_mix(options.seed, 0x73686f6f74ull);
-
-  // Per texel (the SHL-map).
-  if (options.texels) {
-    std::vector<BakePoint> points(raster.samples.size());
-    for (size_t k = 0; k < points.size(); ++k) {
-      const atlas::TexelSample& s = raster.samples[k];
-      points[k] = {s.position, s.normal, s.geometric_normal, uint64_t(s.x), uint64_t(s.y)};
-    }
-    NormalSamples texel_normals;
-    if (options.normal_maps)
-      texel_normals = [&](size_t k, std::vector<vec3>& normals) {
-        texel_normal_samples(
-            scene, raster, raster.samples[k], options.normal_map_samples,
-            hash_mix(options.seed, points[k].stream_a, points[k].stream_b ^ kNormalMapStream),
-            normals);
-      };
-    std::vector<float> transfer;
-    bake_direct(tracer, points, texel_normals, options, "prt texels", transfer, rays);
-    if (bounce) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const PrtPatches set = texel_patches(scene, raster);
-      const TransferShootingResult shot =
-          shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
-      bake.shoot_rounds += shot.rounds;
-      bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
-      bake.relative_unshot = std::max(bake.relative_unshot, shot.relative_unshot);
-      bake.shot_shares = shot.shares;
-      bake.back_sides = shot.back_sides;
-      rays += shot.rays;
-      bake.shoot_seconds += seconds_since(t0);
-    }
-    bake.texel_transfer = TransferMap(raster.width, raster.height, payload);
-    // Dilated one coefficient (an RGB image) at a time: core Images hold up to 4 channels.
-    std::vector<Image> layers;
-    for (int i = 0; i < count; ++i) {
-      Image layer(raster.width, raster.height, 3);
-      for (size_t k = 0; k < points.size(); ++k)
-        std::copy_n(&transfer[k * size_t(payload) + size_t(i) * 3], 3,
-                    layer.pixel(raster.samples[k].x, raster.samples[k].y));
-      atlas::dilate(layer, raster, options.dilate);
-      layers.push_back(std::move(layer));
-    }
-    if (options.stitch) {
-      // The light-map's seam stitching, per coefficient: E/π = Σ T_i L_i is linear in T, so
-      // T's lookups agreeing on both sides of a seam makes the relit light-map's agree for
-      // every lighting. The same matrix for every coefficient; solved a few coefficients at
-      // a time, which gives the same result (each channel has its own CG) in less memory.
-      const auto t0 = std::chrono::steady_clock::now();
-      const Seams seams =
-          find_seams(scene, raster.width, raster.height, {.coplanar = options.stitch_coplanar});
-      constexpr int kCoefficientsPerSolve = 8;
-      for (int first = 0; first < count; first += kCoefficientsPerSolve) {
-        const int last = std::min(count, first + kCoefficientsPerSolve);
-        std::vector<Image> some(std::make_move_iterator(layers.begin() + first),
-                                std::make_move_iterator(layers.begin() + last));
-        stitch_seams(seams, raster, some);
-        std::move(some.begin(), some.end(), layers.begin() + first);
-      }
-      bake.seam_edges = seams.edges;
-      bake.coplanar_edges = seams.coplanar_pairs;
-      bake.stitch_seconds = seconds_since(t0);
-    }
-    for (int i = 0; i < count; ++i)
-      for (int y = 0; y < raster.height; ++y)
-        for (int x = 0; x < raster.width; ++x)
-          std::copy_n(layers[size_t(i)].pixel(x, y), 3,
-                      bake.texel_transfer.pixel(x, y) + size_t(i) * 3);
-    bake.texels = points.size();
-  }
-
-  // Per vertex.
-  if (options.vertices) {
-    std::vector<size_t> base(scene.instances.size() + 1, 0);
-    for (size_t i = 0; i < scene.instances.size(); ++i)
-      base[i + 1] = base[i] + scene.meshes[size_t(scene.instances[i].mesh)].vertex_count();
-    std::vector<BakePoint> points(base.back());
-    std::vector<int> point_instance(base.back());
-    std::vector<VertexRing> rings(options.normal_maps ? scene.instances.size() : 0);
-    for (size_t i = 0; i < scene.instances.size(); ++i) {
-      std::fill(point_instance.begin() + std::ptrdiff_t(base[i]),
-                point_instance.begin() + std::ptrdiff_t(base[i + 1]), int(i));
-      if (options.normal_maps)
-        rings[i] = vertex_ring(scene.meshes[size_t(scene.instances[i].mesh)]);
-      const Instance& inst = scene.instances[i];
-      const Mesh& mesh = scene.meshes[size_t(inst.mesh)];
-      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(inst.transform)));
-      const std::vector<vec3> origin = vertex_ray_origins(inst, mesh);
-      for (size_t v = 0; v < mesh.vertex_count(); ++v) {
-        const vec3 n = glm::normalize(normal_matrix * mesh.normals[v]);
-        points[base[i] + v] = {origin[v], n, n, kVertexStream ^ i, v};
-      }
-    }
-    NormalSamples vertex_normals;
-    if (options.normal_maps)
-      vertex_normals = [&](size_t k, std::vector<vec3>& normals) {
-        const int i = point_instance[k];
-        vertex_normal_samples(
-            scene, i, uint32_t(k - base[size_t(i)]), points[k].normal, rings[size_t(i)],
-            options.normal_map_samples,
-            hash_mix(options.seed, points[k].stream_a, points[k].stream_b ^ kNormalMapStream),
-            normals);
-      };
-    std::vector<float> transfer;
-    bake_direct(tracer, points, vertex_normals, options, "prt vertices", transfer, rays);
-    if (bounce) {
-      const auto t0 = std::chrono::steady_clock::now();
-      const PrtPatches set = vertex_patches(scene);
-      const TransferShootingResult shot =
-          shoot_transfer(tracer, set.patches, set.receiver, payload, transfer, shooting);
-      bake.shoot_rounds += shot.rounds;
-      bake.unshot_fraction = std::max(bake.unshot_fraction, shot.unshot_fraction);
-      bake.relative_unshot = std::max(bake.relative_unshot, shot.relative_unshot);
-      if (!options.texels) {
-        bake.shot_shares = shot.shares;
-        bake.back_sides = shot.back_sides;
-      }
-      rays += shot.rays;
-      bake.shoot_seconds += seconds_since(t0);
-    }
-    bake.vertex_transfer.resize(scene.instances.size());
-    for (size_t i = 0; i < scene.instances.size(); ++i)
-      bake.vertex_transfer[i].assign(
-          transfer.begin() + std::ptrdiff_t(base[i] * size_t(payload)),
-          transfer.begin() + std::ptrdiff_t(base[i + 1] * size_t(payload)));
-    bake.vertices = points.size();
-  }
+  if (options.texels) bake_texel_transfer(scene, tracer, raster, options, shooting, rays, &bake);
+  if (options.vertices) bake_vertex_transfer(scene, tracer, options, shooting, rays, &bake);
   bake.rays = rays.load();
   bake.seconds = seconds_since(start);
   return bake;
