@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "illum/core/interrupt.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/core/tonemap.h"
@@ -103,6 +104,8 @@ void run_render(const RenderArgs& args) {
       // The pair is written whole or not at all: a preview that cannot be written takes
       // the linear file just written with it (a failed run leaves no output).
       try {
+        // Until the preview is written too, a second Ctrl-C takes the linear file with it.
+        const StagingPath pending(args.output);
         write_image(preview_path(args.output), tone_mapped(image, mapper, args.exposure));
       } catch (...) {
         std::error_code ec;

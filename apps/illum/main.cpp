@@ -130,7 +130,6 @@ int main(int argc, char** argv) {
       return 2;
     }
     installed = std::make_unique<illum::ScopedWorkSplit>(job.get());
-    illum::install_termination_handler();
   }
   const bool root = !job || job->rank() == 0;
   other_rank = !root;
@@ -155,11 +154,18 @@ int main(int argc, char** argv) {
     code = 130;
     // Under mpirun a SIGTERM is the launcher ending the job: Ctrl-C given to mpirun, or
     // another rank that died (mpirun names it).
-    if (root)
-      message = illum::interrupt_signal() == SIGTERM
-                    ? "illum: stopped by SIGTERM (under mpirun: Ctrl-C, or another rank "
-                      "failed); nothing was written"
-                    : "illum: interrupted; nothing was written";
+    if (root) {
+      const int signal = illum::interrupt_signal();
+      if (signal == SIGTERM && job)
+        message =
+            "illum: stopped by SIGTERM (under mpirun: Ctrl-C, or another rank failed); nothing "
+            "was written";
+      else if (signal == SIGTERM || signal == SIGHUP)
+        message = fmt::format("illum: stopped by {}; nothing was written",
+                              signal == SIGTERM ? "SIGTERM" : "SIGHUP");
+      else
+        message = "illum: interrupted; nothing was written";
+    }
   } catch (const CLI::ParseError& e) {
     illum::log::discard();
     code = 2;

@@ -9,6 +9,7 @@
 
 #include "illum/core/error.h"
 #include "illum/core/file_write.h"
+#include "illum/core/interrupt.h"
 #include "illum/core/json_input.h"
 #include "illum/core/tonemap.h"
 #include "illum/scene/geometry_hash.h"
@@ -155,6 +156,7 @@ void write_bake_folder(const fs::path& folder, const std::string& manifest_name,
   const fs::path staging =
       parent / fmt::format(".{}.partial-{:08x}", target.filename().string(), random());
   fs::create_directories(staging);
+  const StagingPath staged(staging.string());  // a second Ctrl-C removes it
   try {
     const nlohmann::json manifest = fill(staging);
     // Checked to the last byte (core/file_write.h): a full disk is an error, not a torn

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "illum/core/error.h"
+#include "illum/core/interrupt.h"
 
 namespace illum {
 
@@ -62,6 +63,7 @@ void write_file_atomically(const std::string& path, std::span<const uint8_t> byt
 void write_file_atomically(const std::string& path,
                            const std::vector<std::span<const uint8_t>>& parts) {
   const std::string tmp = temporary_path_beside(path);
+  const StagingPath staged(tmp);  // a second Ctrl-C removes it
   std::string failure = write_all(tmp, parts);
   std::error_code ec;
   if (failure.empty()) {
