@@ -118,7 +118,7 @@ struct Row {
   double raster_ms = 0.0, memory_ms = 0.0, geometry_ms = 0.0;  // own work's bounds
   double mixed_ms = 0.0;
   double quads_ms = 0.0;  // the mixed bound with the passing samples' quads made whole
-  // The shading bound (fragment lighting passes: realtime/shading_bound.h), 0 if none.
+  // The shading bound (fragment lighting passes: realtime/measure/shading_bound.h), 0 if none.
   double shading_ms = 0.0;
   nlohmann::json shading;  // how it was made (JSON)
   std::vector<std::string> details;
