@@ -56,6 +56,7 @@ struct BakeArgs {
   int extras_rays = bake::kDefaultExtraRays;
   std::vector<std::string> params;  // atlas and baker keys
   LoadOptions load;
+  LightingArgs lighting;  // --sun, --sky
   std::string kind = "lightmap";  // lightmap | prt (cmd_bake_prt.cpp) | probes (run_probe_bake)
   float spacing = 0.0f;           // probes only; 0: not given (the grid's default)
   int bands = 4;                  // prt only
@@ -108,7 +109,8 @@ void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
   options.threads = threads;
 
   ThreadLimit limit(threads);
-  const Scene loaded = load_scene(args.scene, args.load);
+  Scene loaded = load_scene(args.scene, args.load);
+  apply_lighting_options(loaded, args.lighting, "probe bake", Unlit::kRefuse);
   const Scene scene = bake::static_part(loaded);
   const RayTracer tracer(scene);
   try {  // the grid's size first: a refused grid names the option
@@ -163,6 +165,10 @@ void run_prt_kind_bake(const BakeArgs& args, const CLI::App& cmd) {
        {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
         "--extras-rays", "--method", "--threshold", "--time"})
     if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
+  for (const char* option : {"--sun", "--sky"})
+    if (cmd.count(option))
+      throw Error(fmt::format("{}: PRT transfer holds no light; give the light to `illum relight`",
+                              option));
   // The interreflected transfer is one shooting loop over every patch; the other modes
   // are not split yet either.
   refuse_with_several_ranks(true, "bake --kind prt", "its work is not split across ranks");
@@ -408,6 +414,9 @@ void run_lightmap_bake(const BakeArgs& args) {
 
   ThreadLimit limit(plan.threads);
   Scene scene = load_scene(args.scene, args.load);
+  apply_lighting_options(scene, args.lighting,
+                         args.method == "radiosity" ? "radiosity bake" : "bake",
+                         args.method == "radiosity" ? Unlit::kRefuse : Unlit::kWarn);
   const size_t scene_triangles = scene.triangle_count();
 
   auto t0 = std::chrono::steady_clock::now();
@@ -579,6 +588,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "prt: unshadowed, shadowed or interreflected")
       ->capture_default_str();
   add_load_options(cmd, &args->load);
+  add_lighting_options(cmd, &args->lighting);
   cmd->callback([args, cmd] {
     args->spp_given = cmd->count("--spp") > 0;
     args->bounces_given = cmd->count("--bounces") > 0;

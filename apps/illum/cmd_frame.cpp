@@ -39,6 +39,7 @@ struct FrameArgs {
   std::vector<std::string> baked;  // folders written by `illum bake` (baked_display.h)
   bool list = false;
   LoadOptions load;
+  LightingArgs lighting;  // --sun, --sky
 };
 
 double median(std::vector<double> v) {
@@ -81,6 +82,7 @@ void run_frame(const FrameArgs& args) {
   if (args.warmup < 0) throw Error(fmt::format("--warmup {} must be ≥ 0", args.warmup));
 
   Scene scene = load_scene(args.scene, args.load);
+  apply_lighting_options(scene, args.lighting, "frame", Unlit::kWarn, /*realtime=*/true);
   const BakedDisplay baked = load_baked_display(scene, args.baked);
   realtime::RenderSettings settings = realtime_settings(args.realtime, scene, args.frames > 1);
   settings.width = args.width > 0 ? args.width : scene.settings.width;
@@ -263,6 +265,7 @@ void add_frame_command(CLI::App& app) {
   cmd->add_option("--device", args->device, "pick the Vulkan device whose name contains this");
   add_baked_option(cmd, &args->baked);
   add_load_options(cmd, &args->load);
+  add_lighting_options(cmd, &args->lighting);
   cmd->callback([args, cmd] {
     args->json_given = cmd->count("--json") > 0;
     run_frame(*args);

@@ -1,7 +1,7 @@
-// `illum relight SCENE --prt FOLDER (--sun X,Y,Z | --env FILE) -o IMAGE`: renders baked PRT
+// `illum relight SCENE --prt FOLDER (--sun X,Y,Z[,E] | --sky R,G,B|FILE) -o IMAGE`: renders baked PRT
 // transfer (the folder of baked/prt_file.h, written by `illum bake --kind prt`,
 // cmd_bake_prt.cpp) under a distant light (bake/prt_relight.h).
-#include <charconv>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +14,7 @@
 #include "illum/core/parallel.h"
 #include "illum/core/tonemap.h"
 #include "illum/render/render_setup.h"
+#include "illum/scene/lighting_overrides.h"
 #include "illum/scene/load.h"
 #include "option_checks.h"
 
@@ -25,30 +26,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// "X,Y,Z" as three finite numbers, or an Error naming the option.
-vec3 parse_vector(const std::string& text, const char* option) {
-  vec3 v(0.0f);
-  const char* p = text.data();
-  const char* end = text.data() + text.size();
-  for (int i = 0; i < 3; ++i) {
-    const auto r = std::from_chars(p, end, v[i], std::chars_format::general);
-    if (r.ec != std::errc() || !std::isfinite(v[i]))
-      throw Error(fmt::format("{} '{}': expected three finite numbers X,Y,Z", option, text));
-    p = r.ptr;
-    if (i < 2) {
-      if (p == end || *p != ',')
-        throw Error(fmt::format("{} '{}': expected three finite numbers X,Y,Z", option, text));
-      ++p;
-    }
-  }
-  if (p != end)
-    throw Error(fmt::format("{} '{}': expected three finite numbers X,Y,Z", option, text));
-  return v;
-}
-
 struct RelightArgs {
   std::string scene, prt, output, sun, env, lookup = "texels", tonemap = "clamp";
   float irradiance = kPi;
+  bool irradiance_given = false;
   float rotate = 0.0f;
   float exposure = 1.0f;
   int width = 0, height = 0, spp = 4, threads = 0;
@@ -58,7 +39,7 @@ struct RelightArgs {
 void run_relight(const RelightArgs& args) {
   check_output_path(args.output);
   if (args.sun.empty() == args.env.empty())
-    throw Error("relight: give exactly one light, --sun X,Y,Z or --env FILE");
+    throw Error("relight: give exactly one light, --sun X,Y,Z[,E] or --sky R,G,B|FILE");
   const ToneMapper mapper = tone_mapper_from_string(args.tonemap);
   bake::RelightOptions options;
   if (args.lookup == "texels")
@@ -69,17 +50,28 @@ void run_relight(const RelightArgs& args) {
     options.lookup = bake::PrtLookup::kVq;
   else
     throw Error(fmt::format("--lookup '{}': texels, vertices or vq", args.lookup));
+  // The same --sun and --sky as every other command (scene/lighting_overrides.h), read
+  // into a scene of their own.
+  Scene light_scene;
   std::optional<vec3> sun;
-  if (!args.sun.empty()) sun = parse_vector(args.sun, "--sun");  // zero: sun_light refuses it
+  Color irradiance(args.irradiance);
+  if (!args.sun.empty()) {
+    add_sun(light_scene, args.sun);
+    sun = light_scene.lights.back().direction;
+    if (std::count(args.sun.begin(), args.sun.end(), ',') == 3) {
+      if (args.irradiance_given)
+        throw Error("--sun X,Y,Z,E and --irradiance both give the irradiance: give one");
+      irradiance = light_scene.lights.back().irradiance;
+    }
+  }
   std::optional<Environment> env;
   if (!args.env.empty()) {
-    env.emplace();
-    env->path = args.env;
-    env->radiance = read_image(args.env, false);
+    set_sky(light_scene, args.env);
+    env = std::move(*light_scene.environment);
     env->rotation_y = radians(args.rotate);
   }
   baked::PrtSet set = baked::load_prt_set(args.prt);
-  const bake::ShLight light = sun ? bake::sun_light(set.bands, *sun, Color(args.irradiance))
+  const bake::ShLight light = sun ? bake::sun_light(set.bands, *sun, irradiance)
                                   : bake::environment_light(set.bands, *env);
   Scene scene = load_scene(args.scene, args.load);
   baked::apply_prt_set(scene, set);
@@ -114,12 +106,15 @@ void add_relight_command(CLI::App& app) {
   cmd->add_option("scene", args->scene, "the scene the folder was baked for")->required();
   cmd->add_option("--prt", args->prt, "PRT folder written by `illum bake --kind prt`")->required();
   cmd->add_option("-o,--output", args->output, "output image (.png, .exr, .hdr, ...)")->required();
-  cmd->add_option("--sun", args->sun, "sun: direction the light travels X,Y,Z (as in scene files)");
+  cmd->add_option("--sun", args->sun,
+                  "sun: X,Y,Z the direction its light travels (as in scene files), optionally ,E "
+                  "its irradiance in W/m²");
   cmd->add_option("--irradiance", args->irradiance,
                   "sun irradiance E (W/m²) on a surface facing it (default π: a white surface "
                   "facing it shows radiance 1)")
       ->transform(number(0.0f, FLT_MAX));
-  cmd->add_option("--env", args->env, "environment: equirectangular HDR image");
+  cmd->add_option("--sky,--env", args->env,
+                  "sky: R,G,B or V a uniform radiance, or an equirectangular .hdr/.exr file");
   cmd->add_option("--rotate", args->rotate, "turn the environment about +y by DEG degrees")
       ->transform(number(-36000.0f, 36000.0f));
   cmd->add_option(
@@ -139,7 +134,10 @@ void add_relight_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));
   add_load_options(cmd, &args->load);
-  cmd->callback([args] { run_relight(*args); });
+  cmd->callback([args, cmd] {
+    args->irradiance_given = cmd->count("--irradiance") > 0;
+    run_relight(*args);
+  });
 }
 
 }  // namespace illum::cli

@@ -33,6 +33,7 @@ struct RenderArgs {
   std::string shadows;              // sugar for param shadows
   float exposure = 1.0f;
   std::string tonemap = "clamp";
+  LightingArgs lighting;  // --sun, --sky
   bool no_preview = false;
   LoadOptions load;
 };
@@ -74,7 +75,8 @@ void run_render(const RenderArgs& args) {
   if (!(args.exposure > 0.0f) || !std::isfinite(args.exposure))
     throw Error(fmt::format("--exposure {} must be a positive number", args.exposure));
 
-  const Scene scene = load_scene(args.scene, args.load);
+  Scene scene = load_scene(args.scene, args.load);
+  add_sun_and_sky(scene, args.lighting);  // the integrators warn when nothing lights it
   RenderOptions options;
   options.width = args.width > 0 ? args.width : scene.settings.width;
   options.height = args.height > 0 ? args.height : scene.settings.height;
@@ -164,6 +166,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_flag("--no-preview", args->no_preview,
                 "with .exr/.hdr output, do not also write a tone-mapped .png");
   add_load_options(cmd, &args->load);
+  add_lighting_options(cmd, &args->lighting);
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -38,6 +38,7 @@ struct ViewArgs {
   std::string camera_out;
   std::vector<std::string> baked;  // folders written by `illum bake` (baked_display.h)
   LoadOptions load;
+  LightingArgs lighting;  // --sun, --sky
 };
 
 // One line of JSON, written through a hidden temporary name renamed on success.
@@ -82,6 +83,7 @@ void run_view(const ViewArgs& args) {
   if (!std::isfinite(args.seconds) || args.seconds < 0.0)
     throw Error(fmt::format("--seconds {} must be a finite number ≥ 0", args.seconds));
   Scene scene = load_scene(args.scene, args.load);
+  apply_lighting_options(scene, args.lighting, "view", Unlit::kWarn, /*realtime=*/true);
   realtime::ViewerOptions viewer;
   const BakedDisplay baked = load_baked_display(scene, args.baked);
   viewer.lightmap = baked.lightmap;
@@ -143,6 +145,7 @@ void add_view_command(CLI::App& app) {
                   "scene file's \"camera\" object (position, look_at, up, fov_y_deg), to "
                   "paste into a .illum.json (the C key prints it while running)");
   add_load_options(cmd, &args->load);
+  add_lighting_options(cmd, &args->lighting);
   cmd->callback([args] { run_view(*args); });
 }
 

@@ -49,6 +49,22 @@ nlohmann::json key_values_to_json(const std::vector<std::string>& items);
 // does not exist or is not writable, or whose name is too long, before any long work starts.
 void check_output_path(const std::string& path);
 
+// --sun X,Y,Z[,E] and --sky R,G,B|V|FILE, the same on every command that lights a scene
+// (scene/lighting_overrides.h says what each adds).
+struct LightingArgs {
+  std::string sun, sky;
+};
+void add_lighting_options(CLI::App* cmd, LightingArgs* args);
+// What a command does with a scene that has no light: warn (its result is black) or refuse
+// (a solver with no power to spread: radiosity, probes).
+enum class Unlit { kWarn, kRefuse };
+// Adds the sun and the sky to `scene` (add_sun_and_sky alone: render, whose integrators
+// warn per integrator), then warns (held until log::release) or refuses when the scene has
+// no light at all; `realtime` also warns that an environment is not shown there.
+void apply_lighting_options(Scene& scene, const LightingArgs& args, const std::string& command,
+                            Unlit unlit = Unlit::kWarn, bool realtime = false);
+void add_sun_and_sky(Scene& scene, const LightingArgs& args);
+
 // The scene-loading flags every subcommand that loads a scene takes (--allow-missing-textures).
 void add_load_options(CLI::App* cmd, LoadOptions* options);
 

@@ -5,6 +5,7 @@
 
 #include "illum/core/error.h"
 #include "illum/core/log.h"
+#include "illum/scene/lighting_overrides.h"
 
 namespace illum {
 
@@ -54,8 +55,8 @@ void warn_about_scene(const Scene& scene, bool needs_lights, const char* integra
   if (scene.triangle_count() == 0)
     log::warn("{}: scene '{}' has no geometry; only the background will show", integrator,
               scene.name);
-  if (needs_lights && scene.lights.empty() && !scene.environment)
-    log::warn("{}: scene '{}' has no lights; the image will be black", integrator, scene.name);
+  if (needs_lights && !has_any_light(scene))
+    log::warn("{}", unlit_scene_message(scene, integrator));
 }
 
 }  // namespace illum
