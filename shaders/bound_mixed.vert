@@ -3,7 +3,7 @@
 // triangles set up and covering no sample — patches of cells × cells cells of shared
 // vertices, patch k inside a corner of pixel k or of a pixel scattered by k, away from its centre (the sample) — the rest
 // the corners of full-target rectangles (4 each; the last one covers `partial` of the
-// target's height), all at depth 0.5. The index buffer (bench/raster_passes.cpp) interleaves
+// target's height), all at depth 0.5. The index buffer (bench/suites/raster_passes.cpp) interleaves
 // the two kinds.
 layout(push_constant) uniform Mixed {
   ivec2 size;  // the target in pixels

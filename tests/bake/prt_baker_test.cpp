@@ -383,7 +383,7 @@ TEST(PrtBaker, SameSeedSameTransferWhateverTheThreads) {
 // A texel's direct transfer depends on nothing but its own sample and the seed (its rays
 // are seeded by its atlas coordinates), so a bake of a few texels gives them the values a
 // bake of the whole raster does: `illum-bench prt-vs-path` bakes the texels a camera sees
-// over many seeds that way, for the relit side's σ (bench/prt_direct_spread.h).
+// over many seeds that way, for the relit side's σ (bench/suites/prt_direct_spread.h).
 TEST(PrtBaker, ShadowedTexelTransferDoesNotDependOnTheOtherTexels) {
   const ChartedCornell cornell;
   PrtBakeOptions o = options_for(PrtMode::kShadowed, 3, 16);

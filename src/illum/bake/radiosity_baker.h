@@ -30,7 +30,7 @@ namespace illum::bake {
 
 inline constexpr double kDefaultRadiosityThreshold = 1e-3;
 inline constexpr double kDefaultRadiosityRelativeThreshold = 0.05;  // as PRT's
-// Measured (bench/results/dev2core-2026-12-02-radiosity-clusters): at 0.1 the relative RMSE
+// Measured (bench/results/lightmaps.md#radiosity): at 0.1 the relative RMSE
 // against the path-traced reference rises 10.80% → 10.87% on Sibenik 384² and 2.98% → 3.34%
 // on Cornell 128², for 1.5× and 1.75× less time; 0.2 saves little more (Sibenik: 1.6×).
 inline constexpr float kDefaultClusterRatio = 0.1f;

@@ -27,7 +27,7 @@ struct DrawItem {
 
 // Triangles per cluster: small enough that ordering clusters puts occluders first (H200,
 // Sibenik 1080p, visibility frame: 2.033 ms at 512, 2.000 at 256, 1.994 at 128 — each
-// draw costs ≈ 0.15 µs, so 256 keeps the draw count down; bench/results/h200-2026-12-02-order).
+// draw costs ≈ 0.15 µs, so 256 keeps the draw count down; bench/results/raster.md#design-choices).
 inline constexpr uint32_t kClusterTriangles = 256;
 
 // The mesh's index list reordered for clustering: each run of `cluster` triangles (the last

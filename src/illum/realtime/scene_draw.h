@@ -107,10 +107,10 @@ struct SceneView {
 // a large cluster that spans depth (a floor, a wall) goes after the compact ones in front of
 // it, so they occlude it — on the H200 (Sibenik 1080p) the pre-pass passes 1.15 layers instead
 // of 1.49 with the centre as the key, and the frame takes 2.000 ms instead of 2.147
-// (bench/results/h200-2026-12-02-order); the nearest corner was worse (2.79 ms), and the spot
+// (bench/results/raster.md#design-choices); the nearest corner was worse (2.79 ms), and the spot
 // maps too prefer the farthest corner (0.351 ms against 0.369 with the centre). The cascades'
 // orthographic views from a high sun are the exception: the centre gives 0.364 ms against
-// 0.371 (the nearest corner 0.414, no order 0.438; bench/results/h200-2026-12-02-push-order).
+// 0.371 (the nearest corner 0.414, no order 0.438; bench/results/raster.md#design-choices; the run is in git at c416128).
 float cluster_depth(const mat4& clip, const Bounds3& b, SceneView::DepthKey key);
 
 // The clusters `view` draws, in the order it draws them (every cluster, in draw order, when

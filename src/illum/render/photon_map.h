@@ -5,7 +5,7 @@
 // cone and Gaussian filters.
 //
 // Why our own tree and not nanoflann: `illum-bench photons` measures both on the same
-// points (see bench/bench_photons.cpp and render/README.md for the numbers); the implicit
+// points (see bench/suites/bench_photons.cpp and render/README.md for the numbers); the implicit
 // tree needs no node pointers, keeps positions in a dense array in traversal order and
 // was the faster of the two for the photon-gather queries we run.
 #pragma once

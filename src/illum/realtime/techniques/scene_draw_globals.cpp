@@ -12,7 +12,7 @@ TechniqueDecl scene_draw_globals() {
       "to back, and (where the device has VK_EXT_conditional_rendering) against the depth";
   t.params = {
       // Off by default: on the H200 it made Sibenik's visibility frame 2.007 -> 2.320 ms
-      // (bench/results/h200-2026-12-02-occlusion): its views hide almost no whole cluster,
+      // (bench/results/raster.md#h200-occlusion-culling): its views hide almost no whole cluster,
       // and each predicated draw and the pyramid cost time.
       bool_param("occlusion_culling", false,
                  "two-phase GPU occlusion culling of clusters in the depth pre-pass, the "

@@ -28,7 +28,7 @@ namespace {
 // 16 bits by default (`map.cascade_depth`): an orthographic depth is linear, so d16 stores
 // it to 1/65535 of the cascade's depth range everywhere — 1/13 of the default bias — and
 // the H200 writes and tests it faster (cascades 0.345 → 0.286 ms at Sibenik 1080p,
-// bench/results/h200-2026-12-03-d16-cascades). The lookup's normal offset alone (1.5 texels)
+// bench/results/raster.md#design-choices). The lookup's normal offset alone (1.5 texels)
 // covers that rounding (at most a step): the splits and the depth range both follow the
 // scene's diagonal, so cascade 0's half-width is a fixed part of its depth range — Sibenik:
 // 13.5 of 166 m, an offset of 31 steps at 512² and 1.9 at the 8192² maximum
