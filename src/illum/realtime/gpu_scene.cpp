@@ -53,8 +53,8 @@ static void order_within_cluster(uint32_t* vertices, uint32_t* positions, size_t
 
 // The mesh's triangles reordered so that every run of `cluster` of them (the last run may be
 // shorter) is spatially compact: centroids split recursively at the median of their longest
-// axis, each split on a multiple of `cluster`. (A Morton order was tried first: its runs jump
-// across cell boundaries, and Sibenik's clusters came out as wide as the nave.)
+// axis, each split on a multiple of `cluster`. (Not a Morton order: its runs jump across cell
+// boundaries, and Sibenik's clusters came out as wide as the nave.)
 ClusteredIndices clustered_indices(const Mesh& mesh, uint32_t cluster) {
   const size_t triangles = mesh.indices.size() / 3;
   std::vector<vec3> centroid(triangles);
