@@ -413,6 +413,8 @@ TEST(LightmapExtras, RefusesBadOptionsAndNames) {
   EXPECT_THROW(o.select("ao,fog"), Error);
   EXPECT_THROW(o.select("ao,ao"), Error);
   EXPECT_THROW(o.select(""), Error);
+  for (const char* empty_item : {"ao,", ",ao", "ao,,obscurance", ","})
+    EXPECT_THROW(o.select(empty_item), Error) << empty_item;
   o.select("bent_normal,ao");
   EXPECT_TRUE(o.ao && o.bent_normal && !o.obscurance);
   Scene s;
