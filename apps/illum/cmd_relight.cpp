@@ -130,7 +130,7 @@ void add_relight_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
       ->transform(number(FLT_MIN, FLT_MAX));
-  cmd->add_option("--tonemap", args->tonemap, "clamp, reinhard or aces (8-bit output)");
+  cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces, agx");
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));
   add_load_options(cmd, &args->load);

@@ -20,7 +20,7 @@ void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
       ->delimiter(',');
   cmd->add_option("--disable", args->disable, "switch add-ons off (NAME[,NAME], repeatable)")
       ->delimiter(',');
-  cmd->add_option("--tonemap", args->tonemap, "tone mapper")
+  cmd->add_option("--tonemap", args->tonemap, "tone mapper: clamp, reinhard, aces, agx")
       ->check(CLI::IsMember(tonemap->param("operator")->choices))
       ->capture_default_str();
   cmd->add_option("--exposure", args->exposure, "exposure multiplier")

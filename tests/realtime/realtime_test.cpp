@@ -239,6 +239,34 @@ TEST_F(RealtimeTest, ConfigureMatchesAFreshRendererAndRebuildsOnlyWhatChanged) {
   live.render(*scene.camera);
 }
 
+// The offline tone mappers (core/tonemap.h: render, relight, bake previews) are the GPU
+// pass's, operation for operation: the frame's 8-bit image against the CPU mapping of its
+// own HDR target at the same fixed exposure, within 2 sRGB codes (8-bit target, fp16 input).
+TEST_F(RealtimeTest, CpuToneMappersMatchTheGpuPass) {
+  const Scene scene = test::cornell_point_light();
+  for (const std::string op : {"clamp", "reinhard", "aces", "agx"}) {
+    RenderSettings o;
+    o.width = o.height = 32;
+    o.set("map.resolution", 64);
+    o.set("tonemap.operator", op);
+    o.set("tonemap.exposure", 3.0f);
+    o.disable("luminance");  // fixed exposure
+    o.disable("bloom");
+    Renderer renderer(context(), scene, o);
+    renderer.render(*scene.camera);
+    const Image hdr = renderer.hdr(), ldr = renderer.ldr();
+    const ToneMapper mapper = tone_mapper_from_string(op);
+    float worst = 0.0f;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const Color c = tone_map(hdr.rgb(x, y) * 3.0f, mapper), g = ldr.rgb(x, y);
+        for (int k = 0; k < 3; ++k)
+          worst = std::max(worst, std::abs(srgb_encode(g[k]) - srgb_encode(c[k])) * 255.0f);
+      }
+    EXPECT_LE(worst, 2.0f) << op << ": worst difference in 8-bit codes";
+  }
+}
+
 TEST_F(RealtimeTest, ToneMappersProduceDisplayRange) {
   const Scene scene = test::cornell_point_light();
   for (const std::string op : {"clamp", "reinhard", "aces", "agx"}) {

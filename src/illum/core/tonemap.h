@@ -9,9 +9,10 @@
 
 namespace illum {
 
-enum class ToneMapper { kClamp, kReinhard, kAces };
+enum class ToneMapper { kClamp, kReinhard, kAces, kAgx };
 
-// "clamp" | "reinhard" | "aces"; throws Error for anything else.
+// "clamp" | "reinhard" | "aces" | "agx" (the real-time tonemap pass's four, operation for
+// operation as shaders/tonemap.comp); throws Error for anything else.
 ToneMapper tone_mapper_from_string(const std::string& name);
 
 // Maps linear radiance × exposure to [0,1] linear display values (sRGB encoding happens
