@@ -56,7 +56,7 @@ struct BakeArgs {
   int extras_rays = bake::kDefaultExtraRays;
   std::vector<std::string> params;  // atlas and baker keys
   LoadOptions load;
-  LightingArgs lighting;  // --sun, --sky
+  LightingArgs lighting;          // --sun, --sky
   std::string kind = "lightmap";  // lightmap | prt (cmd_bake_prt.cpp) | probes (run_probe_bake)
   float spacing = 0.0f;           // probes only; 0: not given (the grid's default)
   int bands = 4;                  // prt only

@@ -1,5 +1,5 @@
-// `illum relight SCENE --prt FOLDER (--sun X,Y,Z[,E] | --sky R,G,B|FILE) -o IMAGE`: renders baked PRT
-// transfer (the folder of baked/prt_file.h, written by `illum bake --kind prt`,
+// `illum relight SCENE --prt FOLDER (--sun X,Y,Z[,E] | --sky R,G,B|FILE) -o IMAGE`: renders baked
+// PRT transfer (the folder of baked/prt_file.h, written by `illum bake --kind prt`,
 // cmd_bake_prt.cpp) under a distant light (bake/prt_relight.h).
 #include <algorithm>
 #include <chrono>
@@ -71,8 +71,8 @@ void run_relight(const RelightArgs& args) {
     env->rotation_y = radians(args.rotate);
   }
   baked::PrtSet set = baked::load_prt_set(args.prt);
-  const bake::ShLight light = sun ? bake::sun_light(set.bands, *sun, irradiance)
-                                  : bake::environment_light(set.bands, *env);
+  const bake::ShLight light =
+      sun ? bake::sun_light(set.bands, *sun, irradiance) : bake::environment_light(set.bands, *env);
   Scene scene = load_scene(args.scene, args.load);
   baked::apply_prt_set(scene, set);
   log::release();
@@ -130,7 +130,8 @@ void add_relight_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
       ->transform(number(FLT_MIN, FLT_MAX));
-  cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces, agx");
+  cmd->add_option("--tonemap", args->tonemap,
+                  "tone mapper for 8-bit output: clamp, reinhard, aces, agx");
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));
   add_load_options(cmd, &args->load);

@@ -161,7 +161,8 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
       ->transform(number(0.0f, 1e6f))
       ->capture_default_str();
-  cmd->add_option("--tonemap", args->tonemap, "tone mapper for 8-bit output: clamp, reinhard, aces, agx")
+  cmd->add_option("--tonemap", args->tonemap,
+                  "tone mapper for 8-bit output: clamp, reinhard, aces, agx")
       ->capture_default_str();
   cmd->add_flag("--no-preview", args->no_preview,
                 "with .exr/.hdr output, do not also write a tone-mapped .png");

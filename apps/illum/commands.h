@@ -17,7 +17,7 @@ void add_info_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_bake_command(CLI::App& app);
 void add_relight_command(CLI::App& app);  // cmd_relight.cpp
-void add_export_command(CLI::App& app);  // cmd_export.cpp
+void add_export_command(CLI::App& app);   // cmd_export.cpp
 
 // `illum bake --kind prt` (cmd_bake_prt.cpp): the options it shares with the light-map bake.
 struct PrtBakeRequest {

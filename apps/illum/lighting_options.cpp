@@ -25,13 +25,15 @@ void apply_lighting_options(Scene& scene, const LightingArgs& args, const std::s
                             Unlit unlit, bool realtime) {
   add_sun_and_sky(scene, args);
   if (!has_any_light(scene)) {
-    if (unlit == Unlit::kRefuse) throw Error(unlit_scene_message(scene, command, "nothing to bake"));
+    if (unlit == Unlit::kRefuse)
+      throw Error(unlit_scene_message(scene, command, "nothing to bake"));
     log::warn("{}", unlit_scene_message(scene, command));
   }
   if (realtime && scene.environment)
-    log::warn("{}: the real-time renderer does not light with an environment yet: the {} is "
-              "not shown (the offline renderers and bakers use it)",
-              command, args.sky.empty() ? "scene's environment" : "--sky");
+    log::warn(
+        "{}: the real-time renderer does not light with an environment yet: the {} is "
+        "not shown (the offline renderers and bakers use it)",
+        command, args.sky.empty() ? "scene's environment" : "--sky");
 }
 
 }  // namespace illum::cli

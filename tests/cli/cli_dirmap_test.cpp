@@ -155,8 +155,7 @@ TEST_F(DirmapCli, StitchingCanBeTurnedOff) {
 TEST_F(DirmapCli, StitchedSibenikHasNoNegativeTexel) {
   ILLUM_REQUIRE_SHARED_SCENE("sibenik/sibenik.obj");
   const fs::path folder = dir_ / "sibenik";
-  const Result r =
-      run("bake sibenik --resolution 512 --spp 16 --seed 1 -o " + folder.string());
+  const Result r = run("bake sibenik --resolution 512 --spp 16 --seed 1 -o " + folder.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json manifest = nlohmann::json::parse(slurp(folder / "lightmap.json"));
   EXPECT_GT(manifest["bake"]["seam_edges"].get<int>(), 1000);

@@ -17,8 +17,8 @@ class DiskFullTest : public CliTest {
   // 512-byte blocks in dash, the /bin/sh std::system runs).
   Result run_limited(const std::string& args, int kib) {
     return run_in_shell("cd " + dir_.string() + " && trap '' XFSZ && ulimit -f " +
-                        std::to_string(kib * 2) + " && exec " + ILLUM_BINARY_DIR +
-                        "/bin/illum " + args);
+                        std::to_string(kib * 2) + " && exec " + ILLUM_BINARY_DIR + "/bin/illum " +
+                        args);
   }
   Result run_in_shell(const std::string& script) {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
@@ -59,9 +59,8 @@ TEST_F(DiskFullTest, RenderedImageThatDoesNotFitLeavesNothing) {
     EXPECT_TRUE(left().empty()) << out << ": left " << joined(left());
   }
   // The control: the same command without the limit writes the file.
-  const Result ok =
-      run_limited("render cornell --integrator path --width 256 --height 256 --spp 1 -o out.png",
-                  1 << 20);
+  const Result ok = run_limited(
+      "render cornell --integrator path --width 256 --height 256 --spp 1 -o out.png", 1 << 20);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_GT(fs::file_size(dir_ / "out.png"), 8u * 1024u) << "the limited runs had to fail";
 }
@@ -88,8 +87,7 @@ TEST_F(DiskFullTest, EveryOutputCheckedBeforeAnyIsWritten) {
 TEST_F(DiskFullTest, UnwritableNamesAreOneLine) {
   const std::string long_name = std::string(300, 'a') + ".png";
   expect_bad_input(run("render cornell --integrator albedo --spp 1 -o " + long_name), "bytes");
-  expect_bad_input(run("render cornell --integrator albedo --spp 1 -o /proc/x.png"),
-                   "/proc/x.png");
+  expect_bad_input(run("render cornell --integrator albedo --spp 1 -o /proc/x.png"), "/proc/x.png");
   expect_bad_input(run("render cornell --integrator albedo --spp 1 -o " + dir_.string() + "/"),
                    dir_.string());
   EXPECT_TRUE(left().empty()) << joined(left());

@@ -46,11 +46,11 @@ TEST_F(LightingCli, SunAndSkyLightTheScene) {
   const std::string scene = unlit();
   // The quad faces +z: a sun travelling along −z at E = π lights it to radiance ρ (the
   // default material's albedo) where it is seen; a sky of radiance 1 alike.
-  for (const std::string light : {"--sun 0,0,-1", "--sun 0,0,-1,3.14159", "--sky 1",
-                                  "--sky 1,1,1"}) {
+  for (const std::string light :
+       {"--sun 0,0,-1", "--sun 0,0,-1,3.14159", "--sky 1", "--sky 1,1,1"}) {
     const fs::path out = dir_ / "lit.exr";
-    const Result r = run("render " + scene + " " + light + " --width 8 --height 8 --spp 4 -o " +
-                         out.string());
+    const Result r =
+        run("render " + scene + " " + light + " --width 8 --height 8 --spp 4 -o " + out.string());
     ASSERT_EQ(r.exit_code, 0) << light << ": " << r.err;
     EXPECT_EQ(r.err.find("has no light"), std::string::npos) << r.err;
     EXPECT_GT(mean_of(out), 0.01) << light;
@@ -71,8 +71,8 @@ TEST_F(LightingCli, PrtBakeTakesNoLight) {
 
 #ifdef ILLUM_HAVE_GPU  // `illum frame` exists only with the GPU layers
 TEST_F(LightingCli, RealTimeSaysItDoesNotShowTheSky) {
-  const Result r = run("frame " + unlit() + " --sky 1 --width 8 --height 8 -o " +
-                       (dir_ / "f.png").string());
+  const Result r =
+      run("frame " + unlit() + " --sky 1 --width 8 --height 8 -o " + (dir_ / "f.png").string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("does not light with an environment"), std::string::npos) << r.err;
   const Result sun = run("frame " + unlit() + " --sun 0,0,-1 --width 8 --height 8 -o " +

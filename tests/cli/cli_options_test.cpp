@@ -186,7 +186,8 @@ TEST_F(CliOptionsTest, HelpShowsNoInternalBounds) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     for (const char* internal : {"e-38", "e+38", "e-45", "e+308"})
-      EXPECT_EQ(r.out.find(internal), std::string::npos) << "illum " << sub << " --help:\n" << r.out;
+      EXPECT_EQ(r.out.find(internal), std::string::npos) << "illum " << sub << " --help:\n"
+                                                         << r.out;
   }
 }
 

@@ -13,8 +13,7 @@ namespace {
 
 class ExportCli : public CliTest {
  protected:
-  fs::path bake(const std::string& scene, const std::string& name,
-                const std::string& extra = "") {
+  fs::path bake(const std::string& scene, const std::string& name, const std::string& extra = "") {
     const fs::path folder = dir_ / name;
     const Result r = run("bake " + scene + " --resolution 32 --spp 1 --seed 1 " + extra + " -o " +
                          folder.string());

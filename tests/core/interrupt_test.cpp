@@ -31,8 +31,8 @@ int in_child(F child) {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() /
-                     ("illum-interrupt-" + std::to_string(getpid()) + "-" + name);
+  const fs::path p =
+      fs::temp_directory_path() / ("illum-interrupt-" + std::to_string(getpid()) + "-" + name);
   fs::remove_all(p);
   return p;
 }
@@ -52,8 +52,7 @@ TEST(Interrupt, EachStopSignalSetsTheFlagOnce) {
 }
 
 TEST(Interrupt, SecondSignalRemovesStagingPathsAndQuits) {
-  const fs::path file = scratch("file.tmp"), folder = scratch("folder"),
-                 kept = scratch("kept.txt");
+  const fs::path file = scratch("file.tmp"), folder = scratch("folder"), kept = scratch("kept.txt");
   for (const int second : {SIGINT, SIGTERM, SIGHUP}) {
     fs::create_directories(folder);
     std::ofstream(folder / "layer0.exr") << "partial";

@@ -271,7 +271,8 @@ TEST_F(GltfExport, DominantFolderExportsTheIrradianceAtTheNormal) {
     for (int x = 0; x < expected.width(); ++x) {
       const float dz = set_.layers[2].rgb(x, y).b;
       facing_away += dz < 0.0f;
-      expected.set_rgb(x, y, set_.layers[0].rgb(x, y) + set_.layers[1].rgb(x, y) * std::max(0.0f, dz));
+      expected.set_rgb(x, y,
+                       set_.layers[0].rgb(x, y) + set_.layers[1].rgb(x, y) * std::max(0.0f, dz));
     }
   EXPECT_GT(facing_away, 0);
   EXPECT_EQ(read_image((dir_ / "out.lightmap.exr").string(), false).data(), expected.data());

@@ -210,10 +210,10 @@ TEST(Gltf, UsedFromSceneFile) {
 TEST(Gltf, PunctualLightsArePhotometric) {
   TempDir dir;
   Asset a = make_asset();
-  a.json["extensions"]["KHR_lights_punctual"]["lights"] =
-      nlohmann::json::array({{{"type", "point"}, {"intensity", 1366}, {"color", {1, 0.5, 0.25}}},
-                   {{"type", "directional"}, {"intensity", 100000}},
-                   {{"type", "spot"}, {"intensity", 50}, {"spot", {{"outerConeAngle", 0.4}}}}});
+  a.json["extensions"]["KHR_lights_punctual"]["lights"] = nlohmann::json::array(
+      {{{"type", "point"}, {"intensity", 1366}, {"color", {1, 0.5, 0.25}}},
+       {{"type", "directional"}, {"intensity", 100000}},
+       {{"type", "spot"}, {"intensity", 50}, {"spot", {{"outerConeAngle", 0.4}}}}});
   a.json["nodes"][4]["extensions"]["KHR_lights_punctual"]["light"] = 1;  // "bulb": directional
   a.json["nodes"][3]["extensions"]["KHR_lights_punctual"]["light"] = 2;  // "spot"
   a.json["nodes"].push_back({{"name", "lamp"},

@@ -49,8 +49,8 @@ TEST(LightingOverrides, SkyIsAUniformRadianceOrAMap) {
 
 TEST(LightingOverrides, BadValuesAreOneLineNamingTheOption) {
   Scene scene;
-  for (const char* bad : {"", "1,2", "1,2,3,4,5", "0,0,0", "nan,-1,0", "0,-1,0,-1", "a,b,c",
-                          "0,-1,0,", "0,,-1"})
+  for (const char* bad :
+       {"", "1,2", "1,2,3,4,5", "0,0,0", "nan,-1,0", "0,-1,0,-1", "a,b,c", "0,-1,0,", "0,,-1"})
     EXPECT_NE(refusal([&] { add_sun(scene, bad); }).find("--sun"), std::string::npos) << bad;
   for (const char* bad : {"1,2", "-1", "0.5,-0.1,0.2", "inf"})
     EXPECT_NE(refusal([&] { set_sky(scene, bad); }).find("--sky"), std::string::npos) << bad;

@@ -571,8 +571,7 @@ TEST(RayTracer, InteractionGeometryOnTransformedGrid) {
     const float b1 = hit.barycentric.x, b2 = hit.barycentric.y;
     const vec3 n_obj = (1.0f - b1 - b2) * mesh.normals[idx[0]] + b1 * mesh.normals[idx[1]] +
                        b2 * mesh.normals[idx[2]];
-    vec3 expected_ns =
-        glm::normalize(glm::transpose(glm::inverse(mat3(inst.transform))) * n_obj);
+    vec3 expected_ns = glm::normalize(glm::transpose(glm::inverse(mat3(inst.transform))) * n_obj);
     if (glm::dot(expected_ns, si.ng) < 0.0f) expected_ns = -expected_ns;
     // Unless it would hide wo (then bent: ShadingNormalBentWhereItHidesTheViewer).
     if (reflection_rise(expected_ns, si.ng, si.wo) >= reflection_threshold(si.ng, si.wo)) {
@@ -626,8 +625,7 @@ TEST(RayTracer, ShadingNormalBentWhereItHidesTheViewer) {
       const SurfaceInteraction si = tracer.interaction(ray, hit);
       expect_unit(si.ns, "ns");
       EXPECT_GT(glm::dot(si.ns, si.wo), 0.0f) << "elevation " << elevation;
-      EXPECT_GE(reflection_rise(si.ns, si.ng, si.wo),
-                reflection_threshold(si.ng, si.wo) - 1e-4f)
+      EXPECT_GE(reflection_rise(si.ns, si.ng, si.wo), reflection_threshold(si.ng, si.wo) - 1e-4f)
           << "elevation " << elevation;
       EXPECT_NEAR(glm::dot(si.shading.n, si.ns), 1.0f, 1e-6f);
       if (reflection_rise(tilted, si.ng, si.wo) >= reflection_threshold(si.ng, si.wo)) {

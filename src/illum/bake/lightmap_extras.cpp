@@ -63,11 +63,12 @@ void validate(const Scene& scene, const RayTracer& tracer, const atlas::TexelRas
 void LightmapExtrasOptions::select(const std::string& list) {
   ao = obscurance = bent_normal = false;
   // getline drops a trailing empty item: "ao," would pass as "ao".
-  if (!list.empty() && (list.front() == ',' || list.back() == ',' ||
-                        list.find(",,") != std::string::npos))
-    throw Error(fmt::format("--extras '{}': an empty name in the list (ao, obscurance, "
-                            "bent_normal, separated by single commas)",
-                            list));
+  if (!list.empty() &&
+      (list.front() == ',' || list.back() == ',' || list.find(",,") != std::string::npos))
+    throw Error(
+        fmt::format("--extras '{}': an empty name in the list (ao, obscurance, "
+                    "bent_normal, separated by single commas)",
+                    list));
   std::stringstream in(list);
   std::string name;
   bool any_name = false;

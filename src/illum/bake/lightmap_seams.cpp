@@ -315,8 +315,8 @@ SeamStitchStats stitch_seams(const Seams& seams, const atlas::TexelRaster& raste
         for (size_t c = 0; c < channels; ++c)
           y[i * channels + c] += lambda[i] * x[i * channels + c];
   };
-  std::vector<double> x0(count), b(count), delta(count, 0.0), residual(count), z(count),
-      p(count), ap(count), held_delta(count);
+  std::vector<double> x0(count), b(count), delta(count, 0.0), residual(count), z(count), p(count),
+      ap(count), held_delta(count);
   for (size_t i = 0; i < n; ++i)
     for (size_t c = 0; c < channels; ++c) x0[i * channels + c] = value(c, i);
 
@@ -331,8 +331,7 @@ SeamStitchStats stitch_seams(const Seams& seams, const atlas::TexelRaster& raste
     for (size_t k = 0; k < count; ++k)
       if (held[k]) delta[k] = 0.0;
     apply(delta, ap, true);
-    std::vector<double> rz(channels, 0.0), norm_b(channels, 0.0), alpha(channels),
-        beta(channels);
+    std::vector<double> rz(channels, 0.0), norm_b(channels, 0.0), alpha(channels), beta(channels);
     for (size_t i = 0; i < n; ++i)
       for (size_t c = 0; c < channels; ++c) {
         const size_t k = i * channels + c;

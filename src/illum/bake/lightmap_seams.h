@@ -94,9 +94,9 @@ struct SeamStitchOptions {
 };
 
 struct SeamStitchStats {
-  int64_t samples = 0;  // seam samples (least-squares rows)
-  int64_t texels = 0;   // texels the lookups touch (unknowns per channel)
-  int iterations = 0;   // CG iterations (all channels solved together), every round
+  int64_t samples = 0;          // seam samples (least-squares rows)
+  int64_t texels = 0;           // texels the lookups touch (unknowns per channel)
+  int iterations = 0;           // CG iterations (all channels solved together), every round
   int held_at_zero_rounds = 0;  // extra solves with more entries held at zero
   int64_t held_at_zero = 0;     // texel channels the solve would have made negative
   double seconds = 0.0;

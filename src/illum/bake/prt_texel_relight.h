@@ -5,7 +5,8 @@
 //   fp32  3·n² floats (192 bytes),
 //   fp16  3·n² halves (96 bytes; a relative rounding error of at most 2⁻¹¹ per coefficient),
 //   VQ    a 16-bit index (2 bytes) into a codebook relit once per light (prt_vq.h).
-// The loops are memory-bound: bench/suites/bench_prt.cpp times them against the machine's bandwidth.
+// The loops are memory-bound: bench/suites/bench_prt.cpp times them against the machine's
+// bandwidth.
 #pragma once
 
 #include <cstdint>

@@ -142,9 +142,10 @@ void check_bake_output(const fs::path& folder, const std::string& manifest_name,
   for (const fs::directory_entry& entry : fs::directory_iterator(target, ec)) {
     const std::string name = entry.path().filename().string();
     if (!entry.is_regular_file(ec) || std::find(own.begin(), own.end(), name) == own.end())
-      throw Error(fmt::format("{}: holds '{}', which no {} bake wrote; refusing to replace the "
-                              "folder (move it away first)",
-                              folder.string(), name, kind));
+      throw Error(
+          fmt::format("{}: holds '{}', which no {} bake wrote; refusing to replace the "
+                      "folder (move it away first)",
+                      folder.string(), name, kind));
   }
 }
 

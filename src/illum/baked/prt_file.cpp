@@ -31,9 +31,9 @@ constexpr uint32_t kVersion = 1;
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
 
 void write_block(const fs::path& path, uint32_t channels, const float* data, uint64_t points) {
-  write_file_atomically(path.string(), {bytes_of(kMagic, 8), bytes_of(&kVersion),
-                                        bytes_of(&channels), bytes_of(&points),
-                                        bytes_of(data, points * channels)});
+  write_file_atomically(path.string(),
+                        {bytes_of(kMagic, 8), bytes_of(&kVersion), bytes_of(&channels),
+                         bytes_of(&points), bytes_of(data, points * channels)});
 }
 
 // Reads a block of exactly `points` × `channels` finite floats.

@@ -20,7 +20,9 @@ namespace {
 // NAME_MAX of the file systems illum writes to (ext4, xfs, tmpfs, btrfs).
 constexpr size_t kMaxFileNameBytes = 255;
 
-std::string system_reason(int error) { return std::strerror(error); }
+std::string system_reason(int error) {
+  return std::strerror(error);
+}
 
 // Writes all of `parts`, in order, to a new file `tmp`; returns "" or the reason it failed.
 std::string write_all(const std::string& tmp, const std::vector<std::span<const uint8_t>>& parts) {
@@ -87,9 +89,10 @@ void check_writable_output(const std::string& path) {
   if (name.empty() || name == "." || name == "..")
     throw Error(fmt::format("{}: an output needs a file name", path));
   if (name.size() > kMaxFileNameBytes)
-    throw Error(fmt::format("{}: the file name is {} bytes long, more than the {} a file system "
-                            "takes",
-                            path.substr(0, 60) + "…", name.size(), kMaxFileNameBytes));
+    throw Error(
+        fmt::format("{}: the file name is {} bytes long, more than the {} a file system "
+                    "takes",
+                    path.substr(0, 60) + "…", name.size(), kMaxFileNameBytes));
   const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   std::error_code ec;
   if (!fs::is_directory(folder, ec))

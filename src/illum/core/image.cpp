@@ -153,7 +153,6 @@ void write_exr(std::vector<uint8_t>* out, const Image& image, bool half) {
   file.writePixels(image.height());
 }
 
-
 }  // namespace
 
 void write_image(const std::string& path, const Image& image, const ImageWriteOptions& options) {

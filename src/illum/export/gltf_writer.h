@@ -19,8 +19,8 @@
 //               times the scene's diagonal
 //   lights      point, spot and directional as KHR_lights_punctual: colour = value / its
 //               largest channel, intensity = that channel × 683 lm/W (glTF's candela and
-//               lux; the loader divides it back out); a spot's inner cone angle is the largest float below
-//               its outer one (illum's spots have a hard edge)
+//               lux; the loader divides it back out); a spot's inner cone angle is the largest
+//               float below its outer one (illum's spots have a hard edge)
 // Dropped (listed in GltfWriteSummary::dropped): area lights as lights (their emitters keep
 // their emissive material), the environment, Phong/Blinn exponents and specular colours
 // (glTF has roughness only: Material::roughness is written), conductor complex indices

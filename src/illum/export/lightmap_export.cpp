@@ -88,8 +88,8 @@ Image lightmap_irradiance(const baked::LightmapSet& set, std::string* descriptio
     // renderer shows E/π(n) = A + C·max(0, n·d), at the unperturbed normal n = z.
     what = "dominant: A + C·max(0, d_z) (E/π at the normal)";
     if (set.layers.size() != 3)
-      throw Error(fmt::format("light-map set: basis dominant needs 3 layers, not {}",
-                              set.layers.size()));
+      throw Error(
+          fmt::format("light-map set: basis dominant needs 3 layers, not {}", set.layers.size()));
     const Image &ambient = set.layers[0], &colour = set.layers[1], &direction = set.layers[2];
     for (int y = 0; y < out.height(); ++y)
       for (int x = 0; x < out.width(); ++x)
@@ -107,9 +107,10 @@ Image lightmap_irradiance(const baked::LightmapSet& set, std::string* descriptio
     for (size_t k = 0; k < out.data().size(); ++k)
       out.data()[k] = std::max(0.0f, w0 * set.layers[0].data()[k] + w1 * set.layers[2].data()[k]);
   } else {
-    throw Error(fmt::format("light-map set: basis '{}' cannot be exported (plain, rnm, sh, "
-                            "dominant)",
-                            set.basis));
+    throw Error(
+        fmt::format("light-map set: basis '{}' cannot be exported (plain, rnm, sh, "
+                    "dominant)",
+                    set.basis));
   }
   if (description != nullptr) *description = what;
   return out;

@@ -15,9 +15,9 @@ namespace illum::realtime {
 // permutation). On the H200 a vertex shader invocation costs about as much as setting up a
 // triangle, and the cluster split leaves triangles in no useful order: Sibenik 1080p, the
 // cascades took 0.68 → 0.54 ms with this order on the full corners
-// (bench/results/raster.md#design-choices; the run is in git at c416128). Ordering for overdraw on top
-// (meshopt_optimizeOverdraw) was measured too and was 0.5–1.5 % slower. The cluster's
-// vertices are numbered locally so the work follows the cluster, not the mesh.
+// (bench/results/raster.md#design-choices; the run is in git at c416128). Ordering for overdraw on
+// top (meshopt_optimizeOverdraw) was measured too and was 0.5–1.5 % slower. The cluster's vertices
+// are numbered locally so the work follows the cluster, not the mesh.
 static void order_within_cluster(uint32_t* vertices, uint32_t* positions, size_t count) {
   std::unordered_map<uint32_t, uint32_t> local_of;
   std::vector<uint32_t> global, local(count);

@@ -153,7 +153,8 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
   // What was last pushed: a draw item whose constants equal it pushes nothing (the scenes'
   // draws mostly share one transform; position-only pipelines read no material, so theirs is
   // left at 0). Sorted clusters alternate draw items: the cascades pushed for 670 of their 1014
-  // draws, 0.014 ms of the H200's 0.371 (bench/results/raster.md#design-choices; the run is in git at c416128).
+  // draws, 0.014 ms of the H200's 0.371 (bench/results/raster.md#design-choices; the run is in git
+  // at c416128).
   std::optional<PushConstants> pushed;
   for (size_t k = 0; k < order.size();) {
     const Cluster& first = clusters[order[k]];

@@ -110,7 +110,8 @@ struct SceneView {
 // (bench/results/raster.md#design-choices); the nearest corner was worse (2.79 ms), and the spot
 // maps too prefer the farthest corner (0.351 ms against 0.369 with the centre). The cascades'
 // orthographic views from a high sun are the exception: the centre gives 0.364 ms against
-// 0.371 (the nearest corner 0.414, no order 0.438; bench/results/raster.md#design-choices; the run is in git at c416128).
+// 0.371 (the nearest corner 0.414, no order 0.438; bench/results/raster.md#design-choices; the run
+// is in git at c416128).
 float cluster_depth(const mat4& clip, const Bounds3& b, SceneView::DepthKey key);
 
 // The clusters `view` draws, in the order it draws them (every cluster, in draw order, when

@@ -486,10 +486,10 @@ class GltfReader {
         if (cam.perspective.aspectRatio > 0.0) {
           const double width = std::round(scene_.settings.height * cam.perspective.aspectRatio);
           if (!(width <= kMaxGltfImageSide))
-            fail(fmt::format("{} camera aspectRatio = {} makes a {} × {} image, wider than {} "
-                             "pixels",
-                             at, cam.perspective.aspectRatio, width, scene_.settings.height,
-                             kMaxGltfImageSide));
+            fail(fmt::format(
+                "{} camera aspectRatio = {} makes a {} × {} image, wider than {} "
+                "pixels",
+                at, cam.perspective.aspectRatio, width, scene_.settings.height, kMaxGltfImageSide));
           scene_.settings.width = std::max(1, static_cast<int>(width));
         }
       }

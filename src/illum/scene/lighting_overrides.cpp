@@ -34,9 +34,10 @@ bool parse_numbers(const std::string& text, std::vector<float>* out) {
 void add_sun(Scene& scene, const std::string& value) {
   std::vector<float> n;
   if (!parse_numbers(value, &n) || (n.size() != 3 && n.size() != 4))
-    throw Error(fmt::format("--sun '{}': expected X,Y,Z (the direction the light travels) or "
-                            "X,Y,Z,E (and its irradiance in W/m²)",
-                            value));
+    throw Error(
+        fmt::format("--sun '{}': expected X,Y,Z (the direction the light travels) or "
+                    "X,Y,Z,E (and its irradiance in W/m²)",
+                    value));
   const vec3 direction(n[0], n[1], n[2]);
   if (!(glm::length(direction) > 0.0f))
     throw Error(fmt::format("--sun '{}': the direction is zero", value));
@@ -56,9 +57,10 @@ void set_sky(Scene& scene, const std::string& value) {
   std::vector<float> n;
   if (parse_numbers(value, &n)) {
     if (n.size() != 1 && n.size() != 3)
-      throw Error(fmt::format("--sky '{}': expected R,G,B or one radiance V, or an "
-                              "equirectangular .hdr/.exr file",
-                              value));
+      throw Error(
+          fmt::format("--sky '{}': expected R,G,B or one radiance V, or an "
+                      "equirectangular .hdr/.exr file",
+                      value));
     env.constant = n.size() == 1 ? Color(n[0]) : Color(n[0], n[1], n[2]);
     if (!(env.constant.r >= 0.0f && env.constant.g >= 0.0f && env.constant.b >= 0.0f))
       throw Error(fmt::format("--sky '{}': radiance must be ≥ 0", value));
@@ -75,8 +77,7 @@ void set_sky(Scene& scene, const std::string& value) {
         throw Error(fmt::format("--sky {}: negative radiance at texel {}", value,
                                 i / size_t(env.radiance.channels())));
   }
-  std::erase_if(scene.lights,
-                [](const Light& l) { return l.type == LightType::kEnvironment; });
+  std::erase_if(scene.lights, [](const Light& l) { return l.type == LightType::kEnvironment; });
   scene.environment = std::move(env);
   Light light;
   light.name = "environment";
@@ -90,9 +91,10 @@ bool has_any_light(const Scene& scene) {
 
 std::string unlit_scene_message(const Scene& scene, const std::string& command,
                                 const std::string& consequence) {
-  return fmt::format("{}: scene '{}' has no light (no lamp, emissive surface or environment): "
-                     "{}; add one with --sun X,Y,Z[,E] or --sky R,G,B|FILE",
-                     command, scene.name, consequence);
+  return fmt::format(
+      "{}: scene '{}' has no light (no lamp, emissive surface or environment): "
+      "{}; add one with --sun X,Y,Z[,E] or --sky R,G,B|FILE",
+      command, scene.name, consequence);
 }
 
 }  // namespace illum

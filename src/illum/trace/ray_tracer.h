@@ -29,7 +29,7 @@ struct SurfaceInteraction {
   // Unit shading normal (interpolated, normal-mapped, bent towards ng where it would hide wo:
   // ray_tracer.cpp bent_for_valid_reflection), on ng's side.
   vec3 ns{0.0f, 0.0f, 1.0f};
-  Frame shading;              // tangent frame around ns (t follows the mesh tangent if any)
+  Frame shading;  // tangent frame around ns (t follows the mesh tangent if any)
   vec2 uv0{0.0f}, uv1{0.0f};
   vec3 wo{0.0f};  // unit direction towards the ray origin
   float t = 0.0f;
