@@ -16,20 +16,9 @@ class DiskFullTest : public CliTest {
   // `illum ARGS` in the test folder with files limited to `kib` KiB (ulimit -f counts
   // 512-byte blocks in dash, the /bin/sh std::system runs).
   Result run_limited(const std::string& args, int kib) {
-    return run_in_shell("cd " + dir_.string() + " && trap '' XFSZ && ulimit -f " +
-                        std::to_string(kib * 2) + " && exec " + ILLUM_BINARY_DIR + "/bin/illum " +
-                        args);
-  }
-  Result run_in_shell(const std::string& script) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd =
-        "sh -c \"" + script + "\" >" + out.string() + " 2>" + err.string() + " </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+    return run_command("sh -c \"cd " + dir_.string() + " && trap '' XFSZ && ulimit -f " +
+                       std::to_string(kib * 2) + " && exec " + ILLUM_BINARY_DIR + "/bin/illum " +
+                       args + "\"");
   }
   // Files the command left in the test folder, hidden ones included.
   std::vector<std::string> left() const {

@@ -48,9 +48,12 @@ class CliTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   Result run(const std::string& args) {
+    return run_command(std::string(ILLUM_BINARY_DIR) + "/bin/illum " + args);
+  }
+  // Any shell command line, its stdout and stderr captured in the test folder.
+  Result run_command(const std::string& command) {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(ILLUM_BINARY_DIR) + "/bin/illum " + args + " >" +
-                            out.string() + " 2>" + err.string() + " </dev/null";
+    const std::string cmd = command + " >" + out.string() + " 2>" + err.string() + " </dev/null";
     const int status = std::system(cmd.c_str());
     Result r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

@@ -47,15 +47,7 @@ class MpiCli : public CliTest {
   }
   Result mpirun(int ranks, const std::string& args, const std::string& env = "",
                 const std::string& mpirun_options = "-q") {
-    const fs::path out = dir_ / "mpirun-stdout.txt", err = dir_ / "mpirun-stderr.txt";
-    const std::string cmd = mpirun_command(ranks, args, env, mpirun_options) + " >" + out.string() +
-                            " 2>" + err.string() + " </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+    return run_command(mpirun_command(ranks, args, env, mpirun_options));
   }
   // Files in the test folder other than the captured stdout/stderr: outputs, and any
   // temporary file a killed writer left.
