@@ -252,39 +252,71 @@ TEST(FrameGraph, UseInsideAPassDerivesItsBarrier) {
   EXPECT_THROW(undeclared.execute(VK_NULL_HANDLE, 0, nullptr), InternalError);
 }
 
-// A temporal resource: "adapt" this frame, "adapt.previous" last frame's, swapped each frame.
-TEST(FrameGraph, HistoryResourcesSwapEveryFrame) {
+// A temporal resource: "adapt" is what the writer wrote last, "adapt.previous" the one
+// before; the copies swap when the writer runs.
+TEST(FrameGraph, HistoryResourcesSwapWhenWritten) {
   FrameGraph g;
   ResourceDesc adapt = buffer("adapt");
   adapt.history = true;
   g.add_resource(adapt);
   EXPECT_EQ(g.copies("adapt"), 2);
   std::vector<bool> had_history;
+  std::vector<int> written_copy;
   PassDesc p = pass(
       "adaptation", Phase::kPost,
       {{"adapt.previous", kStorageRead, kComputeShader}, {"adapt", kStorageWrite, kComputeShader}});
-  p.record = [&](PassContext& ctx) { had_history.push_back(ctx.has_history("adapt")); };
+  p.record = [&](PassContext& ctx) {
+    had_history.push_back(ctx.has_history("adapt"));
+    written_copy.push_back(ctx.copy("adapt"));
+    EXPECT_EQ(ctx.copy("adapt.previous"), 1 - ctx.copy("adapt"));
+  };
   g.add_pass(p);
   g.compile();  // reading ".previous" needs no writer this frame
-  for (uint64_t f = 0; f < 3; ++f) {
-    EXPECT_EQ(g.copy_at("adapt", f), static_cast<int>(f % 2));
-    EXPECT_EQ(g.copy_at("adapt.previous", f), static_cast<int>((f + 1) % 2));
-    g.execute(VK_NULL_HANDLE, f, nullptr);
-  }
+  for (uint64_t f = 0; f < 3; ++f) g.execute(VK_NULL_HANDLE, f, nullptr);
   EXPECT_EQ(had_history, (std::vector<bool>{false, true, true}));
-  // Frame 2 writes copy 0, which frame 1 read as its previous: write after read.
-  const Barrier* b = find_barrier(g.barriers(), "adapt[0]");
+  EXPECT_EQ(written_copy, (std::vector<int>{1, 0, 1}));
+  EXPECT_EQ(g.copy_index("adapt"), 1);  // after the frame: the copy written last
+  // Frame 2 writes copy 1, which frame 1 read as its previous: write after read.
+  const Barrier* b = find_barrier(g.barriers(), "adapt[1]");
   ASSERT_NE(b, nullptr);
   EXPECT_EQ(b->src_access, VK_ACCESS_2_NONE);
   EXPECT_EQ(b->dst_access, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-  // And reads copy 1, which frame 1 wrote.
-  b = find_barrier(g.barriers(), "adapt[1]");
+  // And reads copy 0, which frame 1 wrote.
+  b = find_barrier(g.barriers(), "adapt[0]");
   ASSERT_NE(b, nullptr);
   EXPECT_EQ(b->src_access, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
   FrameGraph bad;
   bad.add_resource(buffer("x"));
   bad.add_pass(pass("p", Phase::kPost, {{"x.previous", kStorageRead}}));
   EXPECT_THROW(bad.compile(), InternalError);  // "x" keeps no history
+}
+
+// A writer every third frame and a reader every frame: between writes the reader keeps
+// seeing the newest copy (by frame parity it would see the older one every other frame),
+// and two writers in one frame swap once.
+TEST(FrameGraph, HistoryReadersSeeTheNewestCopyBetweenScheduledWrites) {
+  FrameGraph g;
+  ResourceDesc trail = buffer("trail");
+  trail.history = true;
+  g.add_resource(trail);
+  std::vector<int> writes;
+  PassDesc write =
+      pass("write", Phase::kPost, {{"trail", kStorageWrite, kComputeShader}}, Schedule::every_n(3));
+  write.record = [&](PassContext& ctx) { writes.push_back(ctx.copy("trail")); };
+  g.add_pass(write);
+  PassDesc add =
+      pass("add", Phase::kPost, {{"trail", kStorageRead | kStorageWrite, kComputeShader}},
+           Schedule::every_n(3));
+  add.record = [&](PassContext& ctx) { EXPECT_EQ(ctx.copy("trail"), writes.back()); };
+  g.add_pass(add);
+  std::vector<int> read;
+  PassDesc reader = pass("read", Phase::kDisplay, {{"trail", kStorageRead, kComputeShader}});
+  reader.record = [&](PassContext& ctx) { read.push_back(ctx.copy("trail")); };
+  g.add_pass(reader);
+  g.compile();
+  for (uint64_t f = 0; f < 7; ++f) g.execute(VK_NULL_HANDLE, f, nullptr);
+  EXPECT_EQ(writes, (std::vector<int>{1, 0, 1}));  // frames 0, 3, 6
+  EXPECT_EQ(read, (std::vector<int>{1, 1, 1, 0, 0, 0, 1}));
 }
 
 std::vector<std::string> run(FrameGraph& g, uint64_t frame) {

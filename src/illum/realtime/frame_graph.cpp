@@ -297,7 +297,19 @@ void PassContext::triangles(double count) {
 }
 
 bool PassContext::has_history(const std::string& resource) const {
-  return graph_->copy_of(resource + kPrevious, frame_).written_frame >= 0;
+  return graph_->copy_of(resource + kPrevious).written_frame >= 0;
+}
+
+int PassContext::copy(const std::string& name) const {
+  return graph_->copy_index(name);
+}
+
+gpu::GpuImage* PassContext::image(const std::string& name) const {
+  return graph_->copy_of(name).image;
+}
+
+gpu::Buffer* PassContext::buffer(const std::string& name) const {
+  return graph_->copy_of(name).buffer;
 }
 
 void FrameGraph::add_resource(ResourceDesc desc) {
@@ -308,6 +320,7 @@ void FrameGraph::add_resource(ResourceDesc desc) {
               "image '{}' has no format", desc.name);
   resources_.push_back(std::move(desc));
   copies_.emplace_back(resources_.back().history ? 2 : 1);
+  versions_.emplace_back();
   compiled_ = false;
 }
 
@@ -360,17 +373,34 @@ std::optional<FrameGraph::Logical> FrameGraph::find(const std::string& name) con
   return std::nullopt;
 }
 
-int FrameGraph::copy_at(const std::string& name, uint64_t frame) const {
+int FrameGraph::copy_index(const std::string& name) const {
   const auto l = find(name);
   ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
   if (!resources_[l->resource].history) return 0;
-  return static_cast<int>((frame + (l->previous ? 1 : 0)) % 2);
+  const int current = versions_[l->resource].current;
+  return l->previous ? 1 - current : current;
 }
 
-FrameGraph::Copy& FrameGraph::copy_of(const std::string& name, uint64_t frame) {
+FrameGraph::Copy& FrameGraph::copy_of(const std::string& name) {
   const auto l = find(name);
   ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
-  return copies_[l->resource][static_cast<size_t>(copy_at(name, frame))];
+  return copies_[l->resource][static_cast<size_t>(copy_index(name))];
+}
+
+const FrameGraph::Copy& FrameGraph::copy_of(const std::string& name) const {
+  return const_cast<FrameGraph*>(this)->copy_of(name);
+}
+
+void FrameGraph::swap_written_history(const PassDesc& pass, uint64_t frame) {
+  for (const Access& a : pass.accesses) {
+    if (!writes(a.uses)) continue;
+    const auto l = find(a.resource);
+    if (!l || l->previous || !resources_[l->resource].history) continue;
+    Versions& v = versions_[l->resource];
+    if (v.swapped_frame == static_cast<int64_t>(frame)) continue;
+    v.current = 1 - v.current;
+    v.swapped_frame = static_cast<int64_t>(frame);
+  }
 }
 
 int FrameGraph::copies(const std::string& resource) const {
@@ -439,11 +469,13 @@ void FrameGraph::inherit(const FrameGraph& previous,
   for (size_t i = 0; i < resources_.size(); ++i)
     for (size_t j = 0; j < previous.resources_.size(); ++j)
       if (previous.resources_[j].name == resources_[i].name &&
-          previous.resources_[j].same_shape(resources_[i]))
+          previous.resources_[j].same_shape(resources_[i])) {
         for (size_t c = 0; c < copies_[i].size(); ++c) {
           copies_[i][c].state = previous.copies_[j][c].state;
           copies_[i][c].written_frame = previous.copies_[j][c].written_frame;
         }
+        versions_[i] = previous.versions_[j];
+      }
 }
 
 void FrameGraph::notify(Changes changes, const std::string& technique) {
@@ -513,8 +545,8 @@ void FrameGraph::apply(const std::string& name, uint64_t frame, VkCommandBuffer 
   ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
   const ResourceDesc& r = resources_[l->resource];
   const bool image = r.kind == ResourceDesc::Kind::kImage;
-  const int copy_index = copy_at(name, frame);
-  Copy& copy = copies_[l->resource][static_cast<size_t>(copy_index)];
+  const int index = copy_index(name);
+  Copy& copy = copies_[l->resource][static_cast<size_t>(index)];
   if (copy.image && copy.image->layout() != copy.state.layout) {
     // Someone else (an upload, a readback) moved the image: start from its own record.
     copy.state = {copy.image->layout(), copy.image->stage(), copy.image->access()};
@@ -523,7 +555,7 @@ void FrameGraph::apply(const std::string& name, uint64_t frame, VkCommandBuffer 
   std::optional<Barrier> b = barrier_for(&copy.state, next, image);
   if (writes(uses)) copy.written_frame = static_cast<int64_t>(frame);
   if (!b) return;
-  b->resource = r.history ? fmt::format("{}[{}]", r.name, copy_index) : r.name;
+  b->resource = r.history ? fmt::format("{}[{}]", r.name, index) : r.name;
   if (cmd != VK_NULL_HANDLE) {
     if (copy.image) {
       const gpu::ImageDesc& d = copy.image->desc();
@@ -540,12 +572,12 @@ void FrameGraph::apply(const std::string& name, uint64_t frame, VkCommandBuffer 
   barriers_.push_back(std::move(*b));
 }
 
-double FrameGraph::bytes_of(const PassDesc& pass, uint64_t frame) {
+double FrameGraph::bytes_of(const PassDesc& pass) {
   double bytes = 0.0;
   for (const Access& a : pass.accesses) {
     const auto l = find(a.resource);
     if (!l) continue;
-    const Copy& c = copy_of(a.resource, frame);
+    const Copy& c = copy_of(a.resource);
     double size = 0.0;
     if (c.image) {
       const gpu::ImageDesc& d = c.image->desc();
@@ -596,6 +628,7 @@ std::vector<std::string> FrameGraph::execute(VkCommandBuffer cmd, uint64_t frame
     ctx.timer_ = gpu_timer;
     ctx.open_scope_ = &open_scope;
     ctx.items_ = std::move(items);
+    swap_written_history(node.desc, frame);
     if (node.desc.cpu) {
       close();
       const auto t0 = std::chrono::steady_clock::now();
@@ -615,7 +648,7 @@ std::vector<std::string> FrameGraph::execute(VkCommandBuffer cmd, uint64_t frame
     constexpr Uses kAttachments = kColorAttachment | kDepthAttachment | kDepthReadOnly;
     const bool raster = std::any_of(node.desc.accesses.begin(), node.desc.accesses.end(),
                                     [](const Access& a) { return (a.uses & kAttachments) != 0; });
-    if (gpu_timer && !raster) gpu_timer->note_bytes(bytes_of(node.desc, frame));
+    if (gpu_timer && !raster) gpu_timer->note_bytes(bytes_of(node.desc));
     // The first declared access of each resource; the pass applies later ones with use().
     std::vector<std::string> done;
     for (const Access& a : node.desc.accesses) {

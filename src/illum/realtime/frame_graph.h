@@ -3,10 +3,14 @@
 // * Resources have a name, a size (absolute, or the frame's size divided by an integer), a
 //   format and a usage; the usage is the union of what the passes' declared accesses need
 //   (plus `extra_usage`, e.g. transfer-source for readback). A resource may keep a second
-//   copy of itself from the previous frame (`history`): "NAME" is this frame's copy and
-//   "NAME.previous" the last frame's, swapped every frame (adaptation, trails, temporal
-//   blending). External resources are owned by a technique; the graph only tracks their
-//   synchronization state.
+//   copy of itself (`history`: adaptation, trails, temporal blending): "NAME" is the copy
+//   its writer wrote last and "NAME.previous" the one written before. The copies swap when
+//   the first pass writing NAME runs in a frame, not by frame parity, so a writer scheduled
+//   every N frames leaves its readers the newest copy in between. A writer reads its own
+//   last result through NAME.previous (NAME is the copy it is about to overwrite).
+//   Descriptor sets follow with one set per copy, picked by PassContext::copy(). External
+//   resources are owned by a technique; the graph only tracks their synchronization
+//   state.
 // * Passes run in phase order (shadows, geometry, screen space, lighting, post, display),
 //   in declaration order within a phase; several passes may write one resource (the
 //   G-buffer pass writes the HDR target, the lighting adds to it) and their order is that
@@ -237,8 +241,14 @@ class PassContext {
   bool counts_quads() const;
   void begin_quads(VkBuffer counter);
   void end_quads(VkBuffer counter);
-  // Whether "NAME.previous" holds a frame (false on the first frame after creation).
+  // Whether "NAME.previous" holds a frame (false until the writer has run twice).
   bool has_history(const std::string& resource) const;
+  // What "NAME" or "NAME.previous" resolves to at this point of the frame: the copy index
+  // (0 without history; a technique with one descriptor set per copy picks by it) and the
+  // GPU object bound to that copy (null where none is bound).
+  int copy(const std::string& name) const;
+  gpu::GpuImage* image(const std::string& name) const;
+  gpu::Buffer* buffer(const std::string& name) const;
 
  private:
   friend class FrameGraph;
@@ -289,8 +299,8 @@ class FrameGraph {
   int copies(const std::string& resource) const;
   void bind_image(const std::string& resource, int copy, gpu::GpuImage* image);
   void bind_buffer(const std::string& resource, int copy, gpu::Buffer* buffer);
-  // The copy "NAME" (or "NAME.previous") names at `frame`.
-  int copy_at(const std::string& name, uint64_t frame) const;
+  // The copy "NAME" (or "NAME.previous") names now (see history above).
+  int copy_index(const std::string& name) const;
 
   // Records the passes due at `frame` with their barriers and timer scopes; returns the
   // names of the passes that ran. `timer` may be null (no timing); `cmd` may be
@@ -332,16 +342,25 @@ class FrameGraph {
     size_t resource;  // index into resources_
     bool previous;    // "NAME.previous"
   };
+  // Which copy of a history resource is "NAME", and the frame it last swapped in.
+  struct Versions {
+    int current = 0;
+    int64_t swapped_frame = -1;
+  };
   std::optional<Logical> find(const std::string& name) const;
-  Copy& copy_of(const std::string& name, uint64_t frame);
+  Copy& copy_of(const std::string& name);
+  const Copy& copy_of(const std::string& name) const;
+  // Before a pass runs: the history resources it writes swap, once a frame.
+  void swap_written_history(const PassDesc& pass, uint64_t frame);
   // Bytes of the resources `pass` declares: each read once, each written once.
-  double bytes_of(const PassDesc& pass, uint64_t frame);
+  double bytes_of(const PassDesc& pass);
   void apply(const std::string& name, uint64_t frame, VkCommandBuffer cmd, Uses uses,
              VkPipelineStageFlags2 shaders);
   std::vector<int> due_items(Node& node, uint64_t frame);
 
   std::vector<ResourceDesc> resources_;
   std::vector<std::vector<Copy>> copies_;
+  std::vector<Versions> versions_;  // per resource
   std::vector<Node> passes_;
   std::vector<std::pair<std::string, std::string>> required_;
   std::vector<size_t> sorted_;
