@@ -1,24 +1,24 @@
 #version 450
-// Pass 1 of the log-average luminance: each 16×16 tile sums log(δ + L) into partials[tile]
-// (δ = 1e-4: realtime::kLogAverageDelta, which the tests use to recompute L_avg on the CPU).
+// Pass 1 of auto-exposure: every pixel's log2 luminance in the histogram of
+// core/auto_exposure.h (same bins, same range, same constants), counted per workgroup in
+// shared memory, then added to the frame's histogram.
+#include "illum/core/auto_exposure_constants.h"
+#include "exposure.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = 0) uniform sampler2D hdr;
-layout(std430, set = 0, binding = 1) buffer Partials { float partials[]; };
-shared float sums[256];
+shared uint local_bins[kHistogramBins];
 void main() {
+  uint i = gl_LocalInvocationIndex;
+  // 256 invocations, 256 bins: each clears and later flushes one.
+  local_bins[i] = 0u;
+  barrier();
   ivec2 size = textureSize(hdr, 0);
   ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  float v = 0.0;
   if (p.x < size.x && p.y < size.y) {
     vec3 c = texelFetch(hdr, p, 0).rgb;
-    v = log(1e-4 + max(dot(c, vec3(0.2126, 0.7152, 0.0722)), 0.0));
+    int bin = exposure_bin(kLumaR * c.r + kLumaG * c.g + kLumaB * c.b);
+    if (bin >= 0) atomicAdd(local_bins[bin], 1u);
   }
-  uint i = gl_LocalInvocationIndex;
-  sums[i] = v;
   barrier();
-  for (uint s = 128; s > 0; s >>= 1) {
-    if (i < s) sums[i] += sums[i + s];
-    barrier();
-  }
-  if (i == 0) partials[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = sums[0];
+  if (local_bins[i] != 0u) atomicAdd(exposure_data.bins[i], local_bins[i]);
 }

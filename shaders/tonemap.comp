@@ -1,17 +1,16 @@
 #version 450
-// HDR → display: exposure (optionally key/L_avg from the log-average luminance), a tone
+// HDR → display: exposure (× the auto exposure luminance_reduce.comp left, when on), a tone
 // mapper, bloom added before mapping, sRGB encoding into an 8-bit image.
+#include "illum/core/auto_exposure_constants.h"
+#include "exposure.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = 0) uniform sampler2D hdr;
-layout(std430, set = 0, binding = 1) readonly buffer Partials { float partials[]; };
 layout(set = 0, binding = 2, rgba8) uniform writeonly image2D ldr;
 layout(set = 0, binding = 3) uniform sampler2D bloom;
 layout(push_constant) uniform Push {
   int mapper;        // 0 clamp, 1 Reinhard, 2 ACES, 3 AgX
-  int auto_exposure; // 1: scale by key / L_avg
+  int auto_exposure; // 1: scale by exposure_data.exposure
   float exposure;
-  float key;
-  uint avg_index;
   float bloom_strength;
 } push;
 
@@ -62,7 +61,7 @@ void main() {
   if (push.bloom_strength > 0.0)
     c += push.bloom_strength * textureLod(bloom, (vec2(p) + 0.5) / vec2(size), 0.0).rgb;
   float scale = push.exposure;
-  if (push.auto_exposure != 0) scale *= push.key / max(partials[push.avg_index], 1e-6);
+  if (push.auto_exposure != 0) scale *= exposure_data.exposure;
   c *= scale;
   vec3 m;
   if (push.mapper == 1) m = reinhard(c);

@@ -65,7 +65,6 @@ TEST_F(RealtimeInput, OptionsOutOfRange) {
       {"map.bias", [](RenderSettings& o) { o.set("map.bias", -1.0f); }},
       {"tonemap.exposure", [](RenderSettings& o) { o.set("tonemap.exposure", kNaN); }},
       {"tonemap.exposure", [](RenderSettings& o) { o.set("tonemap.exposure", kInfinity); }},
-      {"tonemap.key", [](RenderSettings& o) { o.set("tonemap.key", 0.0f); }},
       {"bloom.strength", [](RenderSettings& o) { o.set("bloom.strength", -1.0f); }},
       {"lighting.ambient", [](RenderSettings& o) { o.set("lighting.ambient", Color(kNaN, 0, 0)); }},
       {"lighting.ambient", [](RenderSettings& o) { o.set("lighting.ambient", Color(-1.0f)); }},

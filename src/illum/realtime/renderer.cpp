@@ -364,27 +364,29 @@ Image Renderer::read_resource(const std::string& name, uint32_t layer) {
   return image.readback(layer);
 }
 
-float Renderer::log_average_luminance() {
+AutoExposure Renderer::auto_exposure() {
   Impl& m = *impl_;
   if (!m.resources.has("luminance"))
-    throw Error("log-average luminance: the luminance add-on (auto-exposure) is off");
-  // luminance_reduce.comp leaves L_avg after the tile partials.
-  const VkDeviceSize offset =
-      VkDeviceSize(luminance_tiles(m.globals_width(), m.globals_height())) * sizeof(float);
-  gpu::Buffer staging(m.context, sizeof(float), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+    throw Error("auto exposure: the luminance add-on (auto-exposure) is off");
+  // luminance_reduce.comp leaves the mean log2 luminance and the exposure after the bins.
+  const VkDeviceSize offset = kExposureMeanOffset;
+  float values[2] = {0.0f, 0.0f};
+  gpu::Buffer staging(m.context, sizeof(values), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                       gpu::MemoryUsage::kReadback);
   m.context.immediate([&](VkCommandBuffer c) {
     gpu::memory_barrier(c, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                         VK_ACCESS_2_TRANSFER_READ_BIT);
-    const VkBufferCopy copy{offset, 0, sizeof(float)};
+    const VkBufferCopy copy{offset, 0, sizeof(values)};
     vkCmdCopyBuffer(c, m.resources.buffer("luminance").handle(), staging.handle(), 1, &copy);
     gpu::memory_barrier(c, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                         VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });
-  float value = 0.0f;
-  staging.read(&value, sizeof(value));
-  return value;
+  staging.read(values, sizeof(values));
+  AutoExposure out;
+  out.mean_log2 = values[0];
+  out.exposure = values[1];
+  return out;
 }
 
 gpu::GpuImage& Renderer::output_image() {

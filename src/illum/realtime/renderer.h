@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "illum/core/auto_exposure.h"
 #include "illum/core/image.h"
 #include "illum/gpu/context.h"
 #include "illum/gpu/gpu_image.h"
@@ -25,10 +26,6 @@
 #include "illum/scene/scene.h"
 
 namespace illum::realtime {
-
-// δ of the log-average luminance: keeps black pixels from sending the mean log to −∞
-// (shaders/luminance.comp uses the same value).
-inline constexpr float kLogAverageDelta = 1e-4f;
 
 class Renderer {
  public:
@@ -60,11 +57,11 @@ class Renderer {
   // One layer of a named frame resource as the last frame left it (depth formats as depth in
   // [0, 1]), for tests and inspection. Throws Error for an unknown name or layer.
   Image read_resource(const std::string& name, uint32_t layer = 0);
-  // The log-average luminance of the last frame's HDR image as the GPU computed it for
-  // auto-exposure, L_avg = exp(mean over pixels of ln(kLogAverageDelta + max(L, 0))) with L
-  // the Rec.709 luminance; the tone mapper then scales by exposure · key / L_avg (Reinhard
-  // et al. 2002). Reads back from the GPU; throws Error with the luminance add-on off.
-  float log_average_luminance();
+  // The auto exposure the GPU computed from the last frame's HDR image by core's rule
+  // (core/auto_exposure.h: histogram, percentiles, target grey; `counted` left 0); the tone
+  // mapper scales by tonemap.exposure × it. Reads back from the GPU; throws Error with the
+  // luminance add-on off.
+  AutoExposure auto_exposure();
   // The 8-bit sRGB-encoded output image (for presenting: blit it to a swapchain image).
   gpu::GpuImage& output_image();
   Image ldr();  // tone-mapped display values (linear, decoded from the sRGB target), RGBA

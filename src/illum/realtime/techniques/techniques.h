@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "illum/core/auto_exposure_constants.h"
 #include "illum/realtime/technique.h"
 
 namespace illum::realtime {
@@ -33,7 +34,9 @@ struct VisibilityPacking {
 // told by their depth).
 VisibilityPacking visibility_packing(size_t draws, size_t max_triangles);
 
-// 16×16 tiles of the log-average luminance (luminance.cpp); L_avg follows their partials.
-uint32_t luminance_tiles(uint32_t width, uint32_t height);
+// The "luminance" buffer (shaders/exposure.glsl): the histogram's bins, then the mean log2
+// luminance between the percentiles and the exposure the rule gives.
+inline constexpr uint32_t kExposureMeanOffset = exposure::kHistogramBins * sizeof(uint32_t);
+inline constexpr uint32_t kExposureBufferBytes = kExposureMeanOffset + 2 * sizeof(float);
 
 }  // namespace illum::realtime

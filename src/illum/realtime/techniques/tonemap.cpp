@@ -1,5 +1,6 @@
-// HDR → display: exposure (× key / L_avg when luminance is on), bloom added (when on), a
-// tone mapper, sRGB encoding into "ldr", the 8-bit image the frame is written and shown from.
+// HDR → display: exposure (× the auto exposure when luminance is on), bloom added (when on),
+// a tone mapper, sRGB encoding into "ldr", the 8-bit image the frame is written and shown
+// from.
 #include "illum/gpu/pipeline.h"
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
@@ -26,7 +27,7 @@ class Tonemap final : public Technique {
     set_layout_ =
         gpu::DescriptorSetLayout(ctx.gpu, {B{0, cis}, B{1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                                            B{2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, B{3, cis}});
-    layout_ = gpu::PipelineLayout(ctx.gpu, {set_layout_.handle()}, 32);
+    layout_ = gpu::PipelineLayout(ctx.gpu, {set_layout_.handle()}, 16);
     pipeline_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "tonemap.comp");
     set_ = descriptors_.allocate(set_layout_);
   }
@@ -75,15 +76,9 @@ class Tonemap final : public Technique {
     const uint32_t tx = (ctx_.width() + 15) / 16, ty = (ctx_.height() + 15) / 16;
     struct {
       int32_t mapper, auto_exposure;
-      float exposure, key;
-      uint32_t avg_index;
-      float bloom_strength;
-    } push{mapper_index(param<std::string>("operator")),
-           luminance_ ? 1 : 0,
-           param<float>("exposure"),
-           param<float>("key"),
-           luminance_tiles(ctx_.width(), ctx_.height()),  // L_avg follows the partials
-           bloom_ ? ctx_.settings().get<float>("bloom.strength") : 0.0f};
+      float exposure, bloom_strength;
+    } push{mapper_index(param<std::string>("operator")), luminance_ ? 1 : 0,
+           param<float>("exposure"), bloom_ ? ctx_.settings().get<float>("bloom.strength") : 0.0f};
     vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), 0, 1, &set_, 0,
                             nullptr);
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
@@ -106,20 +101,17 @@ TechniqueDecl tonemap_technique() {
   t.name = "tonemap";
   t.kind = TechniqueKind::kAddOn;
   t.summary =
-      "exposure (× key / L_avg with luminance on), bloom added, a tone mapper, sRGB into the "
-      "8-bit output the frame is written and shown from";
+      "exposure (× the auto exposure with luminance on), bloom added, a tone mapper, sRGB into "
+      "the 8-bit output the frame is written and shown from";
   t.default_on = true;
   t.params = {
       enum_param("operator", "aces", {"clamp", "reinhard", "aces", "agx"},
                  "clamp, Reinhard (luminance), ACES (Narkowicz fit), AgX (Sobotka)")
           .aka("tone_mapper"),
-      float_param("exposure", 1.0f, 0.0f, 1e6f, "exposure multiplier")
+      float_param("exposure", 1.0f, 0.0f, 1e6f,
+                  "exposure: a multiplier on the auto exposure, or the whole exposure without it")
           .aka("exposure")
           .slider(UiHint::kLogarithmic, 0.01, 100),
-      float_param("key", 0.18f, 1e-4f, 10.0f,
-                  "key value of auto-exposure (Reinhard et al. 2002): exposure · key / L_avg")
-          .aka("key")
-          .slider(UiHint::kLinear, 0.01, 1),
   };
   t.create = [](TechniqueContext& ctx) -> std::unique_ptr<Technique> {
     return std::make_unique<Tonemap>(ctx, *find_technique("tonemap"));
