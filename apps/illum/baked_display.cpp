@@ -157,9 +157,11 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
                       "scene '{}' marks none",
                       *probes, scene.name));
   }
-  if (lightmap)
-    display.lightmap =
-        realtime::prepare_lightmap_display(scene, baked::load_lightmap_set(*lightmap));
+  if (lightmap) {
+    const baked::LightmapSet set = baked::load_lightmap_set(*lightmap);
+    baked::require_lightmap_layers(set, "show");
+    display.lightmap = realtime::prepare_lightmap_display(scene, set);
+  }
   if (prt) {
     baked::PrtSet set = baked::load_prt_set(*prt);
     baked::apply_prt_set(scene, set);

@@ -181,7 +181,8 @@ void run_prt_kind_bake(const BakeArgs& args, const CLI::App& cmd) {
 
 // What a light-map bake's options and --param keys come to, checked before any long work.
 struct LightmapPlan {
-  bool radiosity = false;  // --method radiosity, else path
+  bool radiosity = false;    // --method radiosity, else path
+  bool extras_only = false;  // --basis none: the extra maps without light-map layers
   int threads = 0;
   atlas::AtlasOptions atlas;
   bake::LightmapBakeOptions path;
@@ -214,6 +215,23 @@ void check_method_options(const BakeArgs& args, bool radiosity) {
                             "--spp instead");
 }
 
+// `--basis none` bakes the extra maps alone (AO in seconds where the light-map takes
+// minutes): it needs --extras, and the options of the light-map layers are refused rather
+// than ignored.
+void check_extras_only_options(const BakeArgs& args, const CLI::App& cmd) {
+  if (args.extras.empty())
+    throw Error(
+        "--basis none bakes only the extra maps: name them with --extras (ao, obscurance, "
+        "bent_normal)");
+  for (const char* option :
+       {"--content", "--method", "--spp", "--bounces", "--threshold", "--time", "--sun", "--sky"})
+    if (cmd.count(option))
+      throw Error(fmt::format(
+          "{} does not apply to --basis none (no light-map layers are baked; the extra maps "
+          "need no light)",
+          option));
+}
+
 // The atlas and baker options from the dedicated options and the --param keys (a key that
 // a dedicated option sets is refused).
 void read_lightmap_params(const BakeArgs& args, LightmapPlan* plan) {
@@ -230,7 +248,8 @@ void read_lightmap_params(const BakeArgs& args, LightmapPlan* plan) {
   j["resolution"] = args.resolution;
   j["reuse_uv1"] = !args.regenerate_uv1;
   j["texel_size"] = args.texel_size;
-  j["basis"] = args.basis;
+  // --basis none bakes no layers; the baker's options are still read (dilate) in one place.
+  j["basis"] = plan->extras_only ? "plain" : args.basis;
   j["content"] = args.content;
   j["seed"] = args.seed;
   if (plan->radiosity) {
@@ -266,6 +285,7 @@ LightmapPlan plan_lightmap_bake(const BakeArgs& args) {
   plan.extras.threads = plan.threads;
   baked::check_lightmap_output(args.output);  // before the long work, not after
   plan.radiosity = args.method == "radiosity";
+  plan.extras_only = args.basis == "none";
   check_method_options(args, plan.radiosity);
   read_lightmap_params(args, &plan);
   return plan;
@@ -279,11 +299,13 @@ void check_lightmap_memory(const atlas::Atlas& atlas, const LightmapPlan& plan, 
   bake::BakeMemoryInput memory;
   memory.atlas_texels = int64_t(atlas.width) * atlas.height;
   memory.chart_texels = bake::chart_texel_bound(atlas);
-  memory.layers = bake::layer_count(radiosity ? plan.radiosity_options.basis : plan.path.basis);
+  memory.layers = plan.extras_only ? 0
+                                   : bake::layer_count(radiosity ? plan.radiosity_options.basis
+                                                                 : plan.path.basis);
   memory.extra_maps = (plan.extras.ao ? 1 : 0) + (plan.extras.obscurance ? 2 : 0) +
                       (plan.extras.bent_normal ? 1 : 0);
   memory.radiosity = radiosity;
-  memory.denoise = !radiosity && plan.path.denoise;
+  memory.denoise = !radiosity && !plan.extras_only && plan.path.denoise;
   memory.timed = !radiosity && time_s > 0.0;
   memory.scene_triangles = static_cast<int64_t>(scene_triangles);
   bake::check_bake_memory(bake::estimate_bake_memory(memory), bake::machine_memory());
@@ -414,9 +436,10 @@ void run_lightmap_bake(const BakeArgs& args) {
 
   ThreadLimit limit(plan.threads);
   Scene scene = load_scene(args.scene, args.load);
-  apply_lighting_options(scene, args.lighting,
-                         args.method == "radiosity" ? "radiosity bake" : "bake",
-                         args.method == "radiosity" ? Unlit::kRefuse : Unlit::kWarn);
+  if (!plan.extras_only)  // the extra maps are geometry alone: an unlit scene is no concern
+    apply_lighting_options(scene, args.lighting,
+                           args.method == "radiosity" ? "radiosity bake" : "bake",
+                           args.method == "radiosity" ? Unlit::kRefuse : Unlit::kWarn);
   const size_t scene_triangles = scene.triangle_count();
 
   auto t0 = std::chrono::steady_clock::now();
@@ -442,22 +465,24 @@ void run_lightmap_bake(const BakeArgs& args) {
 
   log::release();  // the input is checked: the load's warnings may show now
   bake::RadiosityBake radiosity_baked;
-  bake::LightmapBake baked = bake_layers(scene, tracer, raster, plan, &radiosity_baked);
+  bake::LightmapBake baked;
+  if (!plan.extras_only) baked = bake_layers(scene, tracer, raster, plan, &radiosity_baked);
   bake::LightmapExtras extras;
   if (plan.extras.any()) extras = bake_extras(scene, tracer, raster, plan.extras, &set);
 
   if (!writes_output()) return;  // rank 0 of the MPI job holds the maps
   stop_if_interrupted();
-  set.basis = bake::to_string(baked.basis);
-  set.content = bake::to_string(baked.content);
+  set.basis = plan.extras_only ? "none" : bake::to_string(baked.basis);
+  set.content = plan.extras_only ? "none" : bake::to_string(baked.content);
   set.layers = std::move(baked.layers);
   set.scene = scene.name;
   set.scene_triangles = scene_triangles;
   set.scene_hash = geometry_hash_hex(scene);  // with the atlas applied, as the readers check it
   const double occupancy =
       double(raster.covered()) / (double(set.atlas.width) * double(set.atlas.height));
-  set.bake = method_manifest(plan, args.time_s, baked, radiosity_baked);
-  set.bake.update(nlohmann::json{{"texels", baked.texels},
+  set.bake = plan.extras_only ? nlohmann::json{{"method", "none"}, {"dilate", plan.extras.dilate}}
+                              : method_manifest(plan, args.time_s, baked, radiosity_baked);
+  set.bake.update(nlohmann::json{{"texels", plan.extras_only ? raster.covered() : baked.texels},
                                  {"occupancy", occupancy},
                                  {"rays", baked.rays},
                                  {"atlas_seconds", atlas_s},
@@ -474,8 +499,16 @@ void run_lightmap_bake(const BakeArgs& args) {
     set.bake["extras_rays"] = extras.rays;
   }
   baked::save_lightmap_set(args.output, set);
-  report_lightmap_bake(scene, set, plan, baked, radiosity_baked, raster.covered(), occupancy,
-                       atlas_s, raster_s, args.output);
+  if (plan.extras_only)
+    std::fprintf(stderr,
+                 "illum: bake %s, extra maps only (%s): atlas %dx%d, %d charts, %zu texels in "
+                 "%.2fs; raster %.2fs; %d rays per texel %.2fs -> %s\n",
+                 scene.name.c_str(), args.extras.c_str(), set.atlas.width, set.atlas.height,
+                 set.atlas.chart_count, raster.covered(), atlas_s, raster_s, plan.extras.rays,
+                 extras.seconds, args.output.c_str());
+  else
+    report_lightmap_bake(scene, set, plan, baked, radiosity_baked, raster.covered(), occupancy,
+                         atlas_s, raster_s, args.output);
 }
 
 // `illum bake`: one handler per --kind.
@@ -485,8 +518,10 @@ void run_bake(const BakeArgs& args, const CLI::App& cmd) {
     run_probe_bake(args, cmd);
   else if (args.kind == "prt")
     run_prt_kind_bake(args, cmd);
-  else
+  else {
+    if (args.basis == "none") check_extras_only_options(args, cmd);
     run_lightmap_bake(args);
+  }
 }
 
 }  // namespace
@@ -519,8 +554,8 @@ void add_bake_command(CLI::App& app) {
       ->transform(number(0.0, 1e9))
       ->capture_default_str();
   cmd->add_option("--basis", args->basis,
-                  "plain, rnm (3 Source basis maps), sh (SH-L1) or dominant (ambient, "
-                  "directional colour, dominant direction)")
+                  "plain, rnm (3 Source basis maps), sh (SH-L1), dominant (ambient, "
+                  "directional colour, dominant direction) or none (only the --extras maps)")
       ->capture_default_str();
   cmd->add_option("--content", args->content,
                   "all (every light, direct and indirect) or indirect (leaves the direct light "

@@ -26,6 +26,7 @@ void run_export(const ExportArgs& args) {
   exporter::check_export_output(args.output);
   exporter::check_export_options(args.options);
   const baked::LightmapSet set = baked::load_lightmap_set(args.lightmap);
+  baked::require_lightmap_layers(set, "export");
   Scene scene = load_scene(args.scene, args.load);
   const exporter::LightmapExportResult r =
       exporter::export_gltf_with_lightmap(scene, set, args.output, args.options);

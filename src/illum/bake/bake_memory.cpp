@@ -97,7 +97,7 @@ int64_t chart_texel_bound(const atlas::Atlas& atlas) {
 }
 
 BakeMemoryEstimate estimate_bake_memory(const BakeMemoryInput& in) {
-  if (in.atlas_texels < 0 || in.chart_texels < 0 || in.layers < 1 || in.extra_maps < 0 ||
+  if (in.atlas_texels < 0 || in.chart_texels < 0 || in.layers < 0 || in.extra_maps < 0 ||
       in.scene_triangles < 0)
     throw Error(fmt::format(
         "bake memory estimate: bad input ({} atlas texels, {} chart texels, "

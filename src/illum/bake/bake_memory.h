@@ -17,7 +17,7 @@ namespace illum::bake {
 struct BakeMemoryInput {
   int64_t atlas_texels = 0;  // width · height
   int64_t chart_texels = 0;  // covered texels, or an upper bound (chart_texel_bound)
-  int layers = 1;            // basis layers (1 plain, 3 rnm, 4 sh)
+  int layers = 1;            // basis layers (1 plain, 3 rnm, 4 sh; 0: only extra maps)
   int extra_maps = 0;        // raster-sized RGB extra images (ao, obscurance, ...)
   bool radiosity = false;    // the radiosity baker's per-patch state instead of the path's
   bool denoise = true;       // the path baker's denoiser buffers

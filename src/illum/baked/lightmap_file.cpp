@@ -186,7 +186,9 @@ int lightmap_layer_count(const std::string& basis) {
   if (basis == "rnm") return 3;
   if (basis == "sh") return 4;
   if (basis == "dominant") return 3;  // ambient, directional colour, direction (bake/)
-  throw Error(fmt::format("unknown light-map basis '{}' (plain, rnm, sh or dominant)", basis));
+  if (basis == "none") return 0;      // only extra maps (`illum bake --basis none`)
+  throw Error(
+      fmt::format("unknown light-map basis '{}' (plain, rnm, sh, dominant or none)", basis));
 }
 
 void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
@@ -194,6 +196,8 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
   if (set.layers.size() != expected)
     throw Error(fmt::format("light-map set: basis '{}' needs {} layers, got {}", set.basis,
                             expected, set.layers.size()));
+  if (set.basis == "none" && set.extras.empty())
+    throw Error("light-map set: basis 'none' holds only extra maps, and none is given");
   for (size_t i = 0; i < set.extras.size(); ++i) {
     const LightmapExtra& e = set.extras[i];
     if (!is_lightmap_extra_name(e.name))
@@ -219,7 +223,9 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
       write_image((staging / layer_name(i)).string(), set.layers[i], exr);
       layers.push_back(layer_name(i));
     }
-    write_image((staging / "preview.png").string(), preview_of(set.layers[0]));
+    // Without layers the first extra map (values in [0, 1] or unit vectors) is the preview.
+    write_image((staging / "preview.png").string(),
+                set.layers.empty() ? set.extras[0].image : preview_of(set.layers[0]));
     atlas::save_atlas(set.atlas, staging / kAtlasFile);
     nlohmann::json extras = nlohmann::json::object();
     for (const LightmapExtra& e : set.extras) {
@@ -312,12 +318,17 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
       manifest.unsigned_integer("version", 1u << 30) != kVersion)
     manifest.fail(fmt::format("not an illum-lightmap version {} manifest", kVersion));
   set.basis = manifest.string("basis");
-  if (set.basis != "plain" && set.basis != "rnm" && set.basis != "sh" && set.basis != "dominant")
-    manifest.fail(fmt::format("unknown basis '{}' (plain, rnm, sh or dominant)", set.basis));
+  if (set.basis != "plain" && set.basis != "rnm" && set.basis != "sh" &&
+      set.basis != "dominant" && set.basis != "none")
+    manifest.fail(
+        fmt::format("unknown basis '{}' (plain, rnm, sh, dominant or none)", set.basis));
   const int expected = lightmap_layer_count(set.basis);
+  // Content describes the layers: basis none (extra maps only) has none.
   set.content = manifest.string("content");
-  if (set.content != "all" && set.content != "indirect")
-    manifest.fail(fmt::format("unknown content '{}' (all or indirect)", set.content));
+  if (set.basis == "none" ? set.content != "none"
+                          : set.content != "all" && set.content != "indirect")
+    manifest.fail(fmt::format("unknown content '{}' for basis '{}' ({})", set.content, set.basis,
+                              set.basis == "none" ? "none" : "all or indirect"));
   if (manifest.json().contains("scene")) set.scene = manifest.string("scene");
   set.scene_triangles = manifest.unsigned_integer("scene_triangles", uint64_t{1} << 40);
   // Optional here so that an old folder loads and apply_lightmap_set can say what to do.
@@ -384,7 +395,19 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
       set.extras.push_back(std::move(extra));
     }
   }
+  if (set.basis == "none" && set.extras.empty())
+    manifest.fail("basis 'none' holds only extra maps, but 'extras' lists none");
   return set;
+}
+
+void require_lightmap_layers(const LightmapSet& set, const std::string& use) {
+  if (!set.layers.empty()) return;
+  std::string names;
+  for (const LightmapExtra& e : set.extras) names += (names.empty() ? "" : ", ") + e.name;
+  throw Error(fmt::format(
+      "{}: holds only extra maps ({}; baked with --basis none), no light-map layers to {}; "
+      "bake it with --basis plain, rnm, sh or dominant",
+      set.folder.empty() ? "light-map set" : set.folder, names, use));
 }
 
 void apply_lightmap_set(Scene& scene, const LightmapSet& set) {

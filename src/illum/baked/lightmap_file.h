@@ -1,6 +1,7 @@
 // The folder `illum bake` writes and the real-time renderer reads: a baked light-map set.
-//   lightmap.json   manifest: format "illum-lightmap" version 1, basis (plain|rnm|sh|dominant),
-//                   content (all|indirect), size, layer file names, atlas file, texel
+//   lightmap.json   manifest: format "illum-lightmap" version 1, basis (plain|rnm|sh|dominant,
+//                   or none: no layers, only extra maps), content (all|indirect; none with
+//                   basis none), size, layer file names, atlas file, texel
 //                   size, chart count, scene name and triangle count, scene_hash (the
 //                   geometry_hash of the scene with the atlas applied, 16 hex digits:
 //                   scene/geometry_hash.h), and the bake's own numbers (spp, seconds,
@@ -8,7 +9,7 @@
 //   atlas.bin       the atlas (atlas/atlas.h: save_atlas), needed to put uv1 on the scene again
 //   layer0.exr ...  linear RGB layers (half floats), meaning per basis as in
 //                   bake/lightmap_baker.h
-//   preview.png     layer 0 tone-mapped, for people
+//   preview.png     layer 0 tone-mapped (basis none: the first extra map), for people
 //   ao.exr, obscurance.exr, obscurance_color.exr, bent_normal.exr
 //                   optional extra maps (bake/lightmap_extras.h), linear half-float RGB,
 //                   listed under "extras" as name → {"file", parameters}
@@ -43,9 +44,9 @@ bool is_lightmap_extra_name(const std::string& name);
 
 struct LightmapSet {
   atlas::Atlas atlas;
-  std::string basis = "plain";  // plain | rnm | sh | dominant
-  std::string content = "all";  // all | indirect
-  std::vector<Image> layers;    // 1 (plain), 3 (rnm) or 4 (sh), all atlas-sized RGB
+  std::string basis = "plain";  // plain | rnm | sh | dominant | none (extras only)
+  std::string content = "all";  // all | indirect | none (with basis none)
+  std::vector<Image> layers;    // 1 (plain), 3 (rnm, dominant), 4 (sh), 0 (none); atlas-sized RGB
   std::string scene;            // the scene's name, for the record and for messages
   size_t scene_triangles = 0;   // checked on load against the scene it is applied to
   // geometry_hash_hex of the baked scene after make_meshes_unique + apply_atlas; empty in a
@@ -85,6 +86,9 @@ void save_lightmap_set(const std::filesystem::path& folder, const LightmapSet& s
 // JSON, wrong format/version, unknown basis or content, missing or mis-sized layers, a bad
 // atlas file, an unknown or malformed extra, an extra map out of its range.
 LightmapSet load_lightmap_set(const std::filesystem::path& folder);
+// Throws Error (one line naming the folder and the extra maps it holds) when `set` has no
+// layers (basis none), for readers that show or export the light: `use` says what for.
+void require_lightmap_layers(const LightmapSet& set, const std::string& use);
 
 // Puts the set's atlas on `scene` (make_meshes_unique + apply_atlas) after checking that the
 // set was baked for this scene: the same triangle count, then the same geometry_hash once

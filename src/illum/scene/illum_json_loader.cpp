@@ -3,11 +3,14 @@
 // unknown key is an error naming the file and the key. Format: docs/scene-format.md.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <set>
+#include <string_view>
 
 #include "illum/core/error.h"
 #include "illum/core/params.h"
+#include "illum/scene/load.h"
 #include "illum/scene/loaders.h"
 #include "illum/scene/mesh_processing.h"
 #include "illum/scene/scene_validation.h"
@@ -156,6 +159,10 @@ float read_lightmap_texel_size(const Params& entry) {
 
 }  // namespace
 
+// A mesh path starting with this is inside shared_scenes_dir() (load.h), not the scene
+// file's folder: large models kept outside the repository, wherever they are installed.
+constexpr std::string_view kSharedScenesPrefix = "${shared_scenes}/";
+
 Scene load_illum_json(const std::string& path, const LoadOptions& options) {
   const Params root = Params::from_file(path);
   const std::string dir = parent_dir(path);
@@ -166,11 +173,26 @@ Scene load_illum_json(const std::string& path, const LoadOptions& options) {
 
   if (root.has("meshes")) {
     for (const Params& entry : root.children("meshes")) {
-      const std::string file = join_path(dir, entry.get<std::string>("file"));
+      const std::string given = entry.get<std::string>("file");
+      const bool shared = given.starts_with(kSharedScenesPrefix);
+      const std::string file =
+          shared ? join_path(shared_scenes_dir(), given.substr(kSharedScenesPrefix.size()))
+                 : join_path(dir, given);
       const std::string ext = lower_extension(file);
       if (ext != ".obj" && ext != ".gltf" && ext != ".glb")
         throw Error(fmt::format("{} = '{}' must be an .obj, .gltf or .glb file",
-                                entry.where("file"), entry.get<std::string>("file")));
+                                entry.where("file"), given));
+      // A shared mesh is missing on any fresh checkout or installed copy: say where it was
+      // looked for and how to provide it, in the one line a user sees.
+      if (!file_exists(file) && shared) {
+        const std::string relative = given.substr(kSharedScenesPrefix.size());
+        throw Error(fmt::format(
+            "{}: mesh '{}' not found: it is kept outside the repository, with the shared "
+            "scenes; copy their '{}' folder into '{}', or set ILLUM_SHARED_SCENES to a folder "
+            "that holds '{}'",
+            path, file, std::filesystem::path(relative).parent_path().string(), shared_scenes_dir(),
+            relative));
+      }
       if (!file_exists(file))
         throw Error(fmt::format("{}: cannot open file '{}' ({})", path, file, entry.where("file")));
       Scene part = ext == ".obj" ? load_obj(file, options) : load_gltf(file, options);

@@ -16,6 +16,12 @@
 #ifndef ILLUM_DATA_DIR
 #define ILLUM_DATA_DIR "data"
 #endif
+#ifndef ILLUM_SHARED_SCENES
+#define ILLUM_SHARED_SCENES "../shared/scenes"
+#endif
+#ifndef ILLUM_INSTALLED_DATA_DIR
+#define ILLUM_INSTALLED_DATA_DIR "../share/illum"
+#endif
 
 namespace illum {
 
@@ -80,7 +86,22 @@ int TextureCache::get(const std::string& path, bool srgb, const std::string& use
 std::string data_dir() {
   const char* env = std::getenv("ILLUM_DATA_DIR");
   if (env != nullptr && env[0] != '\0') return env;
+  // Found from the running program, not a path compiled in: an installed tree may be moved
+  // (or installed with DESTDIR), and the build tree it came from may be gone.
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path installed =
+        (exe.parent_path() / ILLUM_INSTALLED_DATA_DIR).lexically_normal();
+    if (std::filesystem::is_directory(installed / "scenes", ec)) return installed.string();
+  }
   return ILLUM_DATA_DIR;
+}
+
+std::string shared_scenes_dir() {
+  const char* env = std::getenv("ILLUM_SHARED_SCENES");
+  if (env != nullptr && env[0] != '\0') return env;
+  return ILLUM_SHARED_SCENES;
 }
 
 std::vector<std::string> builtin_scene_names() {

@@ -26,7 +26,14 @@ Scene load_scene(const std::string& path_or_name, const LoadOptions& options = {
 // Names accepted by load_scene without a path.
 std::vector<std::string> builtin_scene_names();
 
-// The project's data folder: $ILLUM_DATA_DIR if set, else the one compiled in.
+// The project's data folder: $ILLUM_DATA_DIR if set; else share/illum beside an installed
+// program (<prefix>/bin/illum finds <prefix>/share/illum, so an installed copy never reads
+// the build tree); else the checkout's data/ compiled in.
 std::string data_dir();
+
+// The folder of the shared scenes that a scene file names as `${shared_scenes}/...` (the
+// built-in sibenik's OBJ, too large for the repository): $ILLUM_SHARED_SCENES if set, else
+// ../shared/scenes beside the checkout, compiled in.
+std::string shared_scenes_dir();
 
 }  // namespace illum
