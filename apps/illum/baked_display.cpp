@@ -114,6 +114,33 @@ realtime::ProbeVolume probe_volume(const baked::ProbeSet& set, const Scene& scen
   return volume;
 }
 
+// The light-map the scene file carries (illum's .glb export, scene.h: SceneLightmap), shown
+// as a plain folder's layer: its uv1 came with the meshes, so only the lights it holds leave
+// the scene (area lights always; punctual ones the file marks illum_baked).
+realtime::Lightmap embedded_lightmap(Scene& scene) {
+  const SceneLightmap& map = *scene.lightmap;
+  const std::string& file = scene.source_path;
+  if (map.tone != "none")
+    throw Error(fmt::format(
+        "{}: its light-map holds display values (exported with --tone {}), not light; export "
+        "it with --tone none to show it",
+        file, map.tone));
+  if (map.image.empty()) throw Error(fmt::format("{}: its light-map image was not read", file));
+  for (const Instance& instance : scene.instances) {
+    const Mesh& mesh = scene.meshes[static_cast<size_t>(instance.mesh)];
+    if (mesh.uv1.size() != mesh.positions.size())
+      throw Error(fmt::format("{}: mesh '{}' has no TEXCOORD_1, where its light-map is read", file,
+                              mesh.name));
+  }
+  std::erase_if(scene.lights, [](const Light& light) {
+    return light.type == LightType::kArea || light.in_lightmap;
+  });
+  realtime::Lightmap lightmap;
+  lightmap.kind = realtime::LightmapKind::kPlain;
+  lightmap.layers = {map.image};
+  return lightmap;
+}
+
 }  // namespace
 
 void BakedDisplay::show(realtime::Renderer& renderer) const {
@@ -161,6 +188,8 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
     const baked::LightmapSet set = baked::load_lightmap_set(*lightmap);
     baked::require_lightmap_layers(set, "show");
     display.lightmap = realtime::prepare_lightmap_display(scene, set);
+  } else if (!prt && scene.lightmap) {
+    display.lightmap = embedded_lightmap(scene);  // a folder given wins over the file's map
   }
   if (prt) {
     baked::PrtSet set = baked::load_prt_set(*prt);

@@ -36,7 +36,9 @@ struct BakedDisplay {
 // of no or an unknown kind, a malformed one, a second folder of one kind, a light-map and a
 // PRT folder together (each puts its own atlas on uv1), a bake of another scene, or probes for
 // a scene that marks no instance dynamic; `scene` is left as it was then. Probes combine with
-// either of the others (they light the dynamic instances only).
+// either of the others (they light the dynamic instances only). Without a light-map or PRT
+// folder, a light-map the scene file carries (Scene::lightmap: illum's .glb export) is shown;
+// refused with one line when it holds tone-mapped values or a mesh lacks its uv1.
 BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& folders);
 
 }  // namespace illum::cli

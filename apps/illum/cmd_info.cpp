@@ -27,7 +27,15 @@ nlohmann::json describe(const Scene& scene) {
   j["instances"] = scene.instances.size();
   j["materials"] = scene.materials.size();
   j["material_types"] = material_types;
-  j["textures"] = scene.textures.size();
+  // Every texture the file holds that illum read: the materials' and the light-map.
+  j["textures"] = scene.textures.size() + (scene.lightmap ? 1 : 0);
+  if (scene.lightmap) {
+    const SceneLightmap& map = *scene.lightmap;
+    j["lightmap"] = {
+        {"encoding", map.encoding},    {"range", map.range}, {"tone", map.tone},
+        {"basis", map.basis},          {"layer", map.layer}, {"width", map.image.width()},
+        {"height", map.image.height()}};
+  }
   j["lights"] = scene.lights.size();
   j["light_types"] = light_types;
   j["environment"] = scene.environment.has_value();
@@ -54,7 +62,18 @@ void print_text(const nlohmann::json& j) {
               j["vertices"].get<size_t>());
   std::printf("materials   %zu: %s\n", j["materials"].get<size_t>(),
               counts(j["material_types"]).c_str());
-  std::printf("textures    %zu\n", j["textures"].get<size_t>());
+  std::printf("textures    %zu%s\n", j["textures"].get<size_t>(),
+              j.contains("lightmap") ? " (one is the light-map)" : "");
+  if (j.contains("lightmap")) {
+    const auto& m = j["lightmap"];
+    const std::string tone = m["tone"].get<std::string>();
+    const std::string basis = m["basis"].get<std::string>();
+    std::printf("light-map   %dx%d %s, range %.6g, %s, on TEXCOORD_1 (from a %s bake: %s)\n",
+                m["width"].get<int>(), m["height"].get<int>(),
+                m["encoding"].get<std::string>().c_str(), m["range"].get<double>(),
+                tone == "none" ? "linear E/π" : ("tone-mapped " + tone).c_str(),
+                basis.empty() ? "light-map" : basis.c_str(), m["layer"].get<std::string>().c_str());
+  }
   std::printf("lights      %zu: %s\n", j["lights"].get<size_t>(), counts(j["light_types"]).c_str());
   std::printf("environment %s\n", j["environment"].get<bool>() ? "yes" : "no");
   std::printf("camera      %s\n",

@@ -205,6 +205,29 @@ TEST_F(GltfExport, PlainFolderRoundTripsThroughTheOwnLoader) {
   const double worst = check_rgbm(glb, texture, set_.layers[0], range);
   EXPECT_LE(worst, 1.0);
   EXPECT_GT(worst, 0.3);  // the bound is not loose by orders of magnitude
+  // The loader decodes it: every texel is the file's RGBM bytes decoded, and it says what
+  // the map is.
+  ASSERT_TRUE(back.lightmap.has_value());
+  EXPECT_EQ(back.lightmap->encoding, "RGBM");
+  EXPECT_EQ(back.lightmap->range, range);
+  EXPECT_EQ(back.lightmap->tone, "none");
+  EXPECT_EQ(back.lightmap->basis, "plain");
+  EXPECT_EQ(back.lightmap->layer, r.layer);
+  EXPECT_TRUE(back.textures.empty());  // not a material texture
+  int width = 0, height = 0;
+  const std::vector<uint8_t> bytes = lightmap_bytes(glb, texture, &width, &height);
+  const Image& decoded = back.lightmap->image;
+  ASSERT_EQ(decoded.width(), width);
+  ASSERT_EQ(decoded.height(), height);
+  ASSERT_EQ(decoded.channels(), 3);
+  int mismatches = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t at = 4 * (static_cast<size_t>(y) * width + x);
+      mismatches += decoded.rgb(x, y) !=
+                    decode_rgbm({bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]}, range);
+    }
+  EXPECT_EQ(mismatches, 0);
   // The EXR beside it is the folder's layer, value for value.
   const Image exr = read_image((dir_ / "out.lightmap.exr").string(), false);
   EXPECT_EQ(exr.data(), set_.layers[0].data());

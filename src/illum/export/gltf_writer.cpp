@@ -209,6 +209,7 @@ class ModelBuilder {
         tinygltf::Value::Object extras{{"encoding", Value(lightmap_->encoding)},
                                        {"range", Value(static_cast<double>(lightmap_->range))},
                                        {"tone", Value(lightmap_->tone)},
+                                       {"basis", Value(lightmap_->basis)},
                                        {"layer", Value(lightmap_->layer)},
                                        {"bytes", Value(std::string("linear"))}};
         tinygltf::Value::Object ext{{"lightmapTexture", Value(info)}, {"extras", Value(extras)}};

@@ -39,10 +39,12 @@ namespace illum::exporter {
 struct GltfLightmapTexture {
   std::vector<uint8_t> png;  // RGBA PNG bytes
   // Written as the extension's `extras` (decoding parameters MSFT_lightmap has no field for):
-  // {"encoding": "RGBM", "range": M, "tone": ..., "layer": ..., "bytes": "linear"}.
+  // {"encoding": "RGBM", "range": M, "tone": ..., "basis": ..., "layer": ...,
+  // "bytes": "linear"}; illum's glTF loader reads it back (scene.h: SceneLightmap).
   std::string encoding = "RGBM";
   float range = 1.0f;
   std::string tone = "none";
+  std::string basis;  // the folder's basis the map was reduced from (plain, rnm, sh, dominant)
   std::string layer;  // which folder data it holds ("layer0", "mean of the 3 RNM layers", ...)
   // Whether the light-map already holds each scene light's light (Scene::lights order),
   // written to each exported light's extras as "illum_baked".

@@ -158,6 +158,7 @@ LightmapExportResult export_gltf_with_lightmap(Scene& scene, const baked::Lightm
   GltfLightmapTexture texture;
   texture.range = range;
   texture.tone = options.tone;
+  texture.basis = set.basis;
   texture.layer = result.layer;
   texture.png = encode_png(encode_rgbm_image(encoded, range), encoded.width(), encoded.height(), 4);
   result.png_bytes = texture.png.size();

@@ -21,6 +21,7 @@
 #include "illum/core/color.h"
 #include "illum/core/error.h"
 #include "illum/scene/gltf_accessors.h"
+#include "illum/scene/gltf_lightmap.h"
 #include "illum/scene/gltf_structure.h"
 #include "illum/scene/loaders.h"
 #include "illum/scene/mesh_processing.h"
@@ -72,6 +73,7 @@ class GltfReader {
     check_cameras();
     check_lights();
     read_materials();
+    read_lightmap();
     read_meshes();
     read_nodes();
   }
@@ -100,6 +102,19 @@ class GltfReader {
     const auto key = std::make_pair(source, srgb);
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
     int id = kNoTexture;
+    Texture tex;
+    if (decode_texture(gltf_texture, srgb, material, &tex)) {
+      id = static_cast<int>(scene_.textures.size());
+      scene_.textures.push_back(std::move(tex));
+    }
+    textures_[key] = id;
+    return id;
+  }
+
+  // The image of textures[gltf_texture] (an index checked by the caller), decoded into
+  // `tex`; false when it is missing or unreadable and missing_texture let the load go on.
+  bool decode_texture(int gltf_texture, bool srgb, const std::string& material, Texture* tex) {
+    const int source = model_.textures[gltf_texture].source;
     if (source < 0) {
       // The image is in an extension illum does not read (KHR_texture_basisu, EXT_texture_webp).
       missing_texture(scene_, options_,
@@ -138,12 +153,10 @@ class GltfReader {
             fmt::format("{}: texture '{}' of material '{}' not found", path_, name, material));
       } else {
         try {
-          Texture tex;
-          tex.path = name;
-          tex.srgb = srgb;
-          tex.image = decode_image(bytes, name, srgb);  // an empty file is an error there
-          id = static_cast<int>(scene_.textures.size());
-          scene_.textures.push_back(std::move(tex));
+          tex->path = name;
+          tex->srgb = srgb;
+          tex->image = decode_image(bytes, name, srgb);  // an empty file is an error there
+          return true;
         } catch (const Error& e) {
           missing_texture(
               scene_, options_,
@@ -151,8 +164,20 @@ class GltfReader {
         }
       }
     }
-    textures_[key] = id;
-    return id;
+    return false;
+  }
+
+  // The light-map of illum's export (gltf_lightmap.h), decoded to linear RGB. Not a material
+  // texture: Scene::textures are 8-bit colour on the GPU, which would clip its range.
+  void read_lightmap() {
+    std::optional<GltfLightmapReference> ref = find_gltf_lightmap(doc_, path_, scene_);
+    if (!ref || static_cast<size_t>(ref->texture) >= model_.textures.size()) return;
+    if (options_.load_textures) {
+      Texture tex;
+      if (!decode_texture(ref->texture, /*srgb=*/false, "(its light-map)", &tex)) return;
+      ref->lightmap.image = decode_rgbm_lightmap(tex.image, ref->lightmap.range, tex.path);
+    }
+    scene_.lightmap = std::move(ref->lightmap);
   }
 
   void read_materials() {
@@ -586,6 +611,15 @@ class GltfReader {
     Color color(1.0f);
     if (gl.color.size() == 3) color = Color(gl.color[0], gl.color[1], gl.color[2]);
     const float intensity = static_cast<float>(gl.intensity / kLuminousEfficacy);
+    // illum's export marks the lights its light-map already holds.
+    const json* baked =
+        json_child(json_child(json_element(json_child(json_child(json_child(&doc_, "extensions"),
+                                                                 "KHR_lights_punctual"),
+                                                      "lights"),
+                                           static_cast<size_t>(index)),
+                              "extras"),
+                   "illum_baked");
+    light.in_lightmap = baked != nullptr && baked->is_boolean() && baked->get<bool>();
     light.position = position;
     light.direction = forward;
     light.range = static_cast<float>(gl.range);

@@ -115,6 +115,9 @@ struct Light {
   // Spot only, set by the real-time renderer for an area light seen from afar: intensity
   // `intensity`·cos θ at angle θ from the axis (a Lambertian emitter), not constant.
   bool cosine_falloff = false;
+  // The scene file's light-map (Scene::lightmap) already holds this light's light: a display
+  // of that map leaves the light out, so it is not counted twice (glTF: extras.illum_baked).
+  bool in_lightmap = false;
 
   float cos_cutoff() const { return std::cos(cone_half_angle); }
   // Ω = 2π(1 − cos θc): the spot's cone solid angle.
@@ -145,6 +148,20 @@ struct SceneSettings {
   Color ambient{0.0f};
 };
 
+// A light-map the scene file carries: illum's glTF export (MSFT_lightmap on TEXCOORD_1 with
+// the decoding in the extension's extras, docs/lightmaps.md "Export to glTF"). The loader
+// decodes it to linear RGB (RGBM: rgb·a·range); it is read on Mesh::uv1 and holds E/π, as a
+// plain light-map folder's layer. Kept apart from Scene::textures, which materials sample
+// as 8-bit colour.
+struct SceneLightmap {
+  Image image;           // RGB; empty when the load skipped textures
+  std::string encoding;  // "RGBM"
+  float range = 1.0f;    // RGBM's M
+  std::string tone;      // "none": the values are E/π; "lrp97": display values in [0, 1]
+  std::string basis;     // the folder's basis it was reduced from ("" when the file omits it)
+  std::string layer;     // what the exporter says the map holds
+};
+
 struct Scene {
   std::string name;         // built-in name or file stem
   std::string source_path;  // file it was loaded from ("" for procedural)
@@ -155,6 +172,7 @@ struct Scene {
   std::vector<Light> lights;
   std::optional<Environment> environment;
   std::optional<Camera> camera;
+  std::optional<SceneLightmap> lightmap;
   SceneSettings settings;
   std::vector<std::string> warnings;  // non-fatal load findings (dropped triangles, ...)
 
