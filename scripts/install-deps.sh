@@ -19,6 +19,13 @@ packages=(
   # Distributed render and bake (`mpirun -np N illum ...`, src/illum/distributed).
   openmpi-bin libopenmpi-dev
 )
+# Optional group, with `--engine-check`: Chromium, Node.js and npm for scripts/engine-check
+# (three.js reads an exported .glb in headless Chromium; ctest label `engine`, outside CI).
+# An npm already on the PATH (e.g. a newer Node.js's own) is kept: Debian's would conflict.
+if [[ ${1:-} == --engine-check ]]; then
+  packages+=(chromium)
+  command -v npm > /dev/null || packages+=(nodejs npm)
+fi
 # Optional, not installed here: `blender` (Debian's, 3.4) for `illum-bench converge`'s Cycles
 # peer (bench/peers/; its test has the label `peer`, outside CI), `linux-perf` for profiling.
 
