@@ -90,9 +90,9 @@ TEST_F(LightmapFolder, ManifestTypesAndValuesAreChecked) {
   } cases[] = {
       {"version", "1", "'version' must be an integer"},
       {"version", 1.5, "'version' must be an integer"},
-      {"version", 2, "not an illum-lightmap version 1 manifest"},
+      {"version", 2, "'version' is 2, but this illum reads illum-lightmap version 1"},
       {"format", 7, "'format' must be a string"},
-      {"basis", "rgb", "unknown basis 'rgb'"},
+      {"basis", "rgb", "'basis' must be one of plain, rnm, sh, dominant, none, not \"rgb\""},
       {"content", nullptr, "'content' must be a string"},
       {"scene_triangles", -1, "'scene_triangles' must be an integer"},
       {"scene_triangles", 1e300, "'scene_triangles' must be an integer"},
@@ -100,12 +100,12 @@ TEST_F(LightmapFolder, ManifestTypesAndValuesAreChecked) {
       {"scene_hash", "0123456789ABCDEF", "'scene_hash' must be 16 lowercase hex digits"},
       {"scene_hash", "0123456789abcde", "'scene_hash' must be 16 lowercase hex digits"},
       {"layers", "layer0.exr", "'layers' must be a list"},
-      {"layers", {"layer0.exr", "layer0.exr"}, "needs 1 layers, the manifest lists 2"},
+      {"layers", {"layer0.exr", "layer0.exr"}, "'layers' lists 2, but basis 'plain' needs 1"},
       {"layers", {"../lm/layer0.exr"}, "must be a file in the folder"},
-      {"layers", {42}, "must list file names"},
+      {"layers", {42}, "'layers' must be a file name"},
       {"atlas", "/etc/passwd", "must be a file in the folder"},
       {"atlas", "..", "must be a file in the folder"},
-      {"width", 16, "do not match the atlas"},
+      {"width", 16, "'width' is 16, but the atlas says 8"},
       {"charts", 1u << 31, "'charts' must be an integer"},
   };
   for (const auto& c : cases) {

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "illum/baked/manifest_fields.h"
 #include "illum/core/error.h"
 #include "illum/core/file_write.h"
 #include "illum/core/interrupt.h"
@@ -253,54 +254,6 @@ void save_lightmap_set(const fs::path& folder, const LightmapSet& set) {
   });
 }
 
-namespace {
-
-// The manifest's fields, each checked for its type and range; every message names the file
-// and the key.
-class Manifest {
- public:
-  Manifest(nlohmann::json json, std::string where)
-      : json_(std::move(json)), where_(std::move(where)) {
-    if (!json_.is_object()) fail("the manifest must be a JSON object");
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(fmt::format("{}: {}", where_, what));
-  }
-  const nlohmann::json& at(const char* key) const {
-    const auto it = json_.find(key);
-    if (it == json_.end()) fail(fmt::format("'{}' is missing", key));
-    return *it;
-  }
-  std::string string(const char* key) const {
-    const nlohmann::json& v = at(key);
-    if (!v.is_string()) fail(fmt::format("'{}' must be a string, not {}", key, v.type_name()));
-    return v.get<std::string>();
-  }
-  uint64_t unsigned_integer(const char* key, uint64_t max) const {
-    const nlohmann::json& v = at(key);
-    if (!v.is_number_unsigned() || v.get<uint64_t>() > max)
-      fail(fmt::format("'{}' must be an integer in [0, {}], not {}", key, max,
-                       v.dump().substr(0, 40)));
-    return v.get<uint64_t>();
-  }
-  // A file name inside the folder (no folder part, not "." or "..").
-  std::string file_name(const char* key, const nlohmann::json& v) const {
-    if (!v.is_string()) fail(fmt::format("'{}' must list file names, not {}", key, v.type_name()));
-    const std::string name = v.get<std::string>();
-    const fs::path p(name);
-    if (name.empty() || p.has_parent_path() || p.is_absolute() || name == "." || name == "..")
-      fail(fmt::format("'{}': '{}' must be a file in the folder", key, name));
-    return name;
-  }
-  const nlohmann::json& json() const { return json_; }
-
- private:
-  nlohmann::json json_;
-  std::string where_;
-};
-
-}  // namespace
-
 LightmapSet load_lightmap_set(const fs::path& folder) {
   const std::string where = folder.string();
   std::error_code ec;  // an unreadable path is "does not exist", not a filesystem_error
@@ -311,50 +264,44 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
     throw Error(fmt::format("{}: no {} (not a light-map folder)", where, kManifest));
   // Bounded nesting and every parser exception as an Error, like any JSON a user hands in
   // (core/json_input.h): the manifest's "bake" object is copied, which recurses.
-  const Manifest manifest(read_json_file(manifest_where), manifest_where);
+  const nlohmann::json json = read_json_file(manifest_where);
+  const ManifestFields manifest(json, manifest_where);
   LightmapSet set;
   set.folder = where;
-  if (manifest.string("format") != "illum-lightmap" ||
-      manifest.unsigned_integer("version", 1u << 30) != kVersion)
-    manifest.fail(fmt::format("not an illum-lightmap version {} manifest", kVersion));
-  set.basis = manifest.string("basis");
-  if (set.basis != "plain" && set.basis != "rnm" && set.basis != "sh" &&
-      set.basis != "dominant" && set.basis != "none")
-    manifest.fail(
-        fmt::format("unknown basis '{}' (plain, rnm, sh, dominant or none)", set.basis));
+  manifest.expect_format("illum-lightmap", kVersion);
+  set.basis = manifest.one_of("basis", {"plain", "rnm", "sh", "dominant", "none"});
   const int expected = lightmap_layer_count(set.basis);
   // Content describes the layers: basis none (extra maps only) has none.
-  set.content = manifest.string("content");
-  if (set.basis == "none" ? set.content != "none"
-                          : set.content != "all" && set.content != "indirect")
-    manifest.fail(fmt::format("unknown content '{}' for basis '{}' ({})", set.content, set.basis,
-                              set.basis == "none" ? "none" : "all or indirect"));
-  if (manifest.json().contains("scene")) set.scene = manifest.string("scene");
-  set.scene_triangles = manifest.unsigned_integer("scene_triangles", uint64_t{1} << 40);
+  set.content = set.basis == "none" ? manifest.one_of("content", {"none"})
+                                    : manifest.one_of("content", {"all", "indirect"});
+  set.scene = manifest.string("scene");
+  set.scene_triangles = manifest.integer("scene_triangles", 0, kMaxManifestTriangles);
   // Optional here so that an old folder loads and apply_lightmap_set can say what to do.
-  if (manifest.json().contains("scene_hash")) {
-    set.scene_hash = manifest.string("scene_hash");
-    if (set.scene_hash.size() != 16 ||
-        set.scene_hash.find_first_not_of("0123456789abcdef") != std::string::npos)
-      manifest.fail(fmt::format("'scene_hash' must be 16 lowercase hex digits, not '{}'",
-                                set.scene_hash.substr(0, 40)));
-  }
-  if (manifest.json().contains("bake")) set.bake = manifest.at("bake");
+  if (manifest.has("scene_hash")) set.scene_hash = manifest.scene_hash("scene_hash");
+  if (manifest.has("bake")) set.bake = manifest.free_object("bake");
   const nlohmann::json& layers = manifest.at("layers");
-  if (!layers.is_array()) manifest.fail("'layers' must be a list of file names");
+  if (!layers.is_array())
+    manifest.fail(fmt::format("'layers' must be a list of file names, not {}",
+                              ManifestFields::shown(layers)));
   if (static_cast<int>(layers.size()) != expected)
-    manifest.fail(fmt::format("basis '{}' needs {} layers, the manifest lists {}", set.basis,
-                              expected, layers.size()));
+    manifest.fail(fmt::format("'layers' lists {}, but basis '{}' needs {}", layers.size(),
+                              set.basis, expected));
   std::vector<std::string> names;
   for (const nlohmann::json& layer : layers) names.push_back(manifest.file_name("layers", layer));
-  set.atlas = atlas::load_atlas(folder / manifest.file_name("atlas", manifest.at("atlas")));
-  // The recorded size and chart count must be the atlas's: a manifest beside another
-  // folder's atlas.bin is refused, not shown with the wrong coordinates.
-  if (manifest.unsigned_integer("width", 1u << 30) != uint64_t(set.atlas.width) ||
-      manifest.unsigned_integer("height", 1u << 30) != uint64_t(set.atlas.height) ||
-      manifest.unsigned_integer("charts", 1u << 30) != uint64_t(set.atlas.chart_count))
-    manifest.fail(fmt::format("its size and chart count do not match the atlas ({}x{}, {} charts)",
-                              set.atlas.width, set.atlas.height, set.atlas.chart_count));
+  // Types and ranges first, so a wrong one is named as such rather than as a mismatch.
+  const uint64_t width = manifest.integer("width", 1, kMaxManifestAtlasSize);
+  const uint64_t height = manifest.integer("height", 1, kMaxManifestAtlasSize);
+  const uint64_t charts = manifest.integer("charts", 0, kMaxManifestCharts);
+  const double texel_size = manifest.number("texel_size", 0.0, kMaxManifestTexelSize, true);
+  set.atlas = atlas::load_atlas(folder / manifest.file_name("atlas"));
+  // The recorded size, chart count and texel size must be the atlas's: a manifest beside
+  // another folder's atlas.bin is refused, not shown with the wrong coordinates.
+  manifest.expect_same("width", width, uint64_t(set.atlas.width), "the atlas");
+  manifest.expect_same("height", height, uint64_t(set.atlas.height), "the atlas");
+  manifest.expect_same("charts", charts, uint64_t(set.atlas.chart_count), "the atlas");
+  if (float(texel_size) != set.atlas.texel_size)
+    manifest.fail(
+        fmt::format("'texel_size' is {}, but the atlas says {}", texel_size, set.atlas.texel_size));
   for (const std::string& name : names) {
     // The reader refuses malformed, oversized and non-finite (NaN/Inf) files, naming them.
     Image layer = read_image((folder / name).string(), false);
@@ -369,7 +316,10 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
   if (manifest.json().contains("extras")) {
     const nlohmann::json& extras = manifest.at("extras");
     if (!extras.is_object())
-      manifest.fail("'extras' must be an object of extra map name → {\"file\": ..., ...}");
+      manifest.fail(
+          fmt::format("'extras' must be an object of extra map name → {{\"file\": ...}}, "
+                      "not {}",
+                      ManifestFields::shown(extras)));
     for (const auto& [name, entry] : extras.items()) {
       if (!is_lightmap_extra_name(name))
         manifest.fail(

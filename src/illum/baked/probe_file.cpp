@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "illum/baked/lightmap_file.h"
+#include "illum/baked/manifest_fields.h"
 #include "illum/core/error.h"
 #include "illum/core/file_write.h"
 #include "illum/core/json_input.h"
@@ -25,45 +26,10 @@ constexpr uint32_t kVersion = 1;
 constexpr uint32_t kFloatsPerProbe = uint32_t(sizeof(ProbeRecord) / sizeof(float));
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
 
-const nlohmann::json& field(const nlohmann::json& j, const char* key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key))
-    throw Error(fmt::format("{}: '{}' is missing", where, key));
-  return j.at(key);
-}
-
-double number_field(const nlohmann::json& j, const char* key, const std::string& where) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>()))
-    throw Error(fmt::format("{}: '{}' must be a finite number", where, key));
-  return v.get<double>();
-}
-
-std::string string_field(const nlohmann::json& j, const char* key, const std::string& where) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_string()) throw Error(fmt::format("{}: '{}' must be a string", where, key));
-  return v.get<std::string>();
-}
-
-uint64_t count_field(const nlohmann::json& j, const char* key, const std::string& where) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_number_integer() || v.get<int64_t>() < 0)
-    throw Error(fmt::format("{}: '{}' must be a non-negative integer", where, key));
-  return v.get<uint64_t>();
-}
-
-// Three finite numbers.
-glm::dvec3 triple(const nlohmann::json& j, const char* key, const std::string& where) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_array() || v.size() != 3)
-    throw Error(fmt::format("{}: '{}' must be a list of three numbers", where, key));
-  glm::dvec3 out;
-  for (int i = 0; i < 3; ++i) {
-    if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
-      throw Error(fmt::format("{}: '{}' must be a list of three finite numbers", where, key));
-    out[i] = v[size_t(i)].get<double>();
-  }
-  return out;
-}
+// Probe positions stay finite in float: a grid a thousand kilometres from the origin, with
+// probes up to a thousand kilometres apart, is past any scene.
+constexpr double kMaxProbeOrigin = 1e6;
+constexpr double kMaxProbeSpacing = 1e6;
 
 }  // namespace
 
@@ -152,47 +118,56 @@ ProbeSet load_probe_set(const fs::path& folder) {
     throw Error(fmt::format("{}: no {} (not a probe folder)", where, kManifest));
   const std::string mw = (folder / kManifest).string();
   const nlohmann::json j = read_json_file(mw);
-  if (!j.is_object()) throw Error(fmt::format("{}: must be a JSON object", mw));
-  if (!field(j, "format", mw).is_string() || j.at("format") != "illum-probes" ||
-      count_field(j, "version", mw) != kVersion)
-    throw Error(fmt::format("{}: not an illum-probes version {} manifest", mw, kVersion));
+  const ManifestFields manifest(j, mw);
+  manifest.expect_format("illum-probes", kVersion);
   ProbeSet set;
   set.folder = where;
-  set.scene = string_field(j, "scene", mw);
-  set.scene_triangles = count_field(j, "scene_triangles", mw);
-  set.scene_hash = string_field(j, "scene_hash", mw);
-  if (set.scene_hash.size() != 16 ||
-      set.scene_hash.find_first_not_of("0123456789abcdef") != std::string::npos)
-    throw Error(fmt::format("{}: 'scene_hash' must be 16 lowercase hex digits", mw));
-  if (count_field(j, "sh_bands", mw) != uint64_t(kProbeBands))
-    throw Error(fmt::format("{}: 'sh_bands' must be {}", mw, kProbeBands));
-  set.backface_threshold = float(number_field(j, "backface_threshold", mw));
-  if (j.contains("bake")) set.bake = j.at("bake");
-  const nlohmann::json& grid = field(j, "grid", mw);
-  const std::string gw = mw + ": grid";
-  const nlohmann::json& size = field(grid, "size", gw);
+  set.scene = manifest.string("scene");
+  set.scene_triangles = manifest.integer("scene_triangles", 0, kMaxManifestTriangles);
+  set.scene_hash = manifest.scene_hash("scene_hash");
+  manifest.integer("sh_bands", kProbeBands, kProbeBands);
+  set.backface_threshold = float(manifest.number("backface_threshold", 0.0, 1.0));
+  if (manifest.has("bake")) set.bake = manifest.free_object("bake");
+  manifest.string("layout");  // for people; the format is fixed by the version
+  const ManifestFields grid = manifest.object("grid");
+  const nlohmann::json& size = grid.at("size");
   if (!size.is_array() || size.size() != 3)
-    throw Error(fmt::format("{}: 'size' must be three integers ≥ 1", gw));
+    grid.fail(
+        fmt::format("'grid.size' must be three integers ≥ 1, not {}", ManifestFields::shown(size)));
   double probes = 1.0;
   for (int a = 0; a < 3; ++a) {
     const nlohmann::json& s = size[size_t(a)];
     if (!s.is_number_integer() || s.get<int64_t>() < 1 || s.get<int64_t>() > (int64_t(1) << 30))
-      throw Error(fmt::format("{}: 'size' must be three integers ≥ 1", gw));
+      grid.fail(fmt::format("'grid.size' must be three integers ≥ 1, not {}",
+                            ManifestFields::shown(size)));
     set.grid.size[a] = int(s.get<int64_t>());
     probes *= double(set.grid.size[a]);
   }
   if (probes * double(sizeof(ProbeRecord)) > kMaxProbeBytes)
-    throw Error(fmt::format("{}: {:.4g} probes is more than the format allows", gw, probes));
-  set.grid.origin = vec3(triple(grid, "origin", gw));
-  set.grid.spacing = float(number_field(grid, "spacing", gw));
-  if (!(set.grid.spacing > 0.0f)) throw Error(fmt::format("{}: 'spacing' must be > 0", gw));
-  if (count_field(j, "probes", mw) != uint64_t(set.grid.count()))
-    throw Error(fmt::format("{}: 'probes' differs from the grid's {}", mw, set.grid.count()));
-
-  const fs::path data_path = folder / string_field(j, "data", mw);
+    grid.fail(
+        fmt::format("'grid.size' asks for {:.4g} probes, more than the format allows", probes));
+  const nlohmann::json& origin = grid.at("origin");
+  if (!origin.is_array() || origin.size() != 3)
+    grid.fail(
+        fmt::format("'grid.origin' must be three numbers, not {}", ManifestFields::shown(origin)));
+  for (int a = 0; a < 3; ++a) {
+    const nlohmann::json& o = origin[size_t(a)];
+    if (!o.is_number() || !(std::abs(o.get<double>()) <= kMaxProbeOrigin))
+      grid.fail(fmt::format("'grid.origin' must be three numbers in [-{1}, {1}], not {0}",
+                            ManifestFields::shown(origin), kMaxProbeOrigin));
+    set.grid.origin[a] = float(o.get<double>());
+  }
+  set.grid.spacing = float(grid.number("spacing", 0.0, kMaxProbeSpacing, true));
+  const uint64_t count = uint64_t(set.grid.count());
+  manifest.expect_same("probes", manifest.integer("probes", 1, uint64_t{1} << 40), count,
+                       "'grid.size'");
+  // Checked against the records below, once they are read.
+  const uint64_t valid = manifest.integer("valid", 0, count);
+  if (manifest.file_name("data") != kDataFile)
+    manifest.fail(fmt::format("'data' must be \"{}\", not {}", kDataFile,
+                              ManifestFields::shown(manifest.at("data"))));
+  const fs::path data_path = folder / kDataFile;
   const std::string dw = data_path.string();
-  if (string_field(j, "data", mw) != kDataFile)
-    throw Error(fmt::format("{}: 'data' must be {}", mw, kDataFile));
   std::ifstream in(data_path, std::ios::binary | std::ios::ate);
   if (!in) throw Error(fmt::format("{}: cannot open", dw));
   const uint64_t bytes = uint64_t(in.tellg());
@@ -231,6 +206,11 @@ ProbeSet load_probe_set(const fs::path& folder) {
       throw Error(fmt::format("{}: probe {} has back-face share {} (not in [0, 1])", dw, p,
                               r.backface_fraction));
   }
+  uint64_t weighted = 0;
+  for (const ProbeRecord& r : set.probes) weighted += r.weight > 0.0f ? 1 : 0;
+  if (weighted != valid)
+    manifest.fail(
+        fmt::format("'valid' is {}, but {} holds {} valid probes", valid, kDataFile, weighted));
   return set;
 }
 

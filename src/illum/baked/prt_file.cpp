@@ -3,10 +3,12 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 #include <fmt/format.h>
 
 #include "illum/baked/lightmap_file.h"
+#include "illum/baked/manifest_fields.h"
 #include "illum/core/error.h"
 #include "illum/core/file_write.h"
 #include "illum/core/json_input.h"
@@ -29,6 +31,8 @@ constexpr char kMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'T'};
 constexpr char kIndexMagic[8] = {'I', 'L', 'L', 'U', 'M', 'P', 'R', 'I'};
 constexpr uint32_t kVersion = 1;
 constexpr size_t kHeaderBytes = 8 + 4 + 4 + 8;
+// Vertices of all instances of a vertex-transfer block (Embree numbers them in 32 bits).
+constexpr uint64_t kMaxPrtVertices = uint64_t{1} << 32;
 
 void write_block(const fs::path& path, uint32_t channels, const float* data, uint64_t points) {
   write_file_atomically(path.string(),
@@ -36,8 +40,10 @@ void write_block(const fs::path& path, uint32_t channels, const float* data, uin
                          bytes_of(&points), bytes_of(data, points * channels)});
 }
 
-// Reads a block of exactly `points` × `channels` finite floats.
-std::vector<float> read_block(const fs::path& path, uint32_t channels, uint64_t points) {
+// Reads a block of exactly `points` × `channels` finite floats. `field` names the entry of
+// `manifest` that sets `points`: a file that disagrees with it is refused naming both.
+std::vector<float> read_block(const fs::path& path, uint32_t channels, uint64_t points,
+                              const ManifestFields& manifest, const char* field) {
   const std::string where = path.string();
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw Error(fmt::format("{}: cannot open", where));
@@ -54,8 +60,9 @@ std::vector<float> read_block(const fs::path& path, uint32_t channels, uint64_t 
   if (std::memcmp(magic, kMagic, 8) != 0 || version != kVersion)
     throw Error(fmt::format("{}: not an ILLUMPRT version {} file", where, kVersion));
   if (file_channels != channels || file_points != points)
-    throw Error(fmt::format("{}: holds {} points × {} channels, the manifest needs {} × {}", where,
-                            file_points, file_channels, points, channels));
+    manifest.fail(fmt::format("'{}' needs {} points × {} channels, but {} holds {} × {}", field,
+                              points, channels, path.filename().string(), file_points,
+                              file_channels));
   const uint64_t expected = kHeaderBytes + points * channels * sizeof(float);
   if (bytes != expected)
     throw Error(fmt::format("{}: {} bytes, {} expected ({})", where, bytes, expected,
@@ -68,35 +75,6 @@ std::vector<float> read_block(const fs::path& path, uint32_t channels, uint64_t 
       throw Error(
           fmt::format("{}: value {} of point {} is not finite", where, i % channels, i / channels));
   return data;
-}
-
-// A manifest field of the right type, or an Error naming the manifest and the key.
-const nlohmann::json& field(const nlohmann::json& j, const char* key, const std::string& where) {
-  if (!j.contains(key)) throw Error(fmt::format("{}: '{}' is missing", where, key));
-  return j.at(key);
-}
-uint64_t unsigned_field(const nlohmann::json& j, const char* key, const std::string& where,
-                        uint64_t max) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<int64_t>() >= 0))
-    throw Error(fmt::format("{}: '{}' must be a non-negative integer", where, key));
-  if (v.get<uint64_t>() > max)
-    throw Error(fmt::format("{}: '{}' = {} is larger than {}", where, key, v.get<uint64_t>(), max));
-  return v.get<uint64_t>();
-}
-std::string string_field(const nlohmann::json& j, const char* key, const std::string& where) {
-  const nlohmann::json& v = field(j, key, where);
-  if (!v.is_string()) throw Error(fmt::format("{}: '{}' must be a string", where, key));
-  return v.get<std::string>();
-}
-// A plain file name inside the folder.
-std::string file_field(const nlohmann::json& j, const char* key, const std::string& where) {
-  const std::string name = string_field(j, key, where);
-  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
-      name.find('\\') != std::string::npos)
-    throw Error(
-        fmt::format("{}: '{}' must be a file name inside the folder, not '{}'", where, key, name));
-  return name;
 }
 
 }  // namespace
@@ -172,13 +150,10 @@ void save_prt_set(const fs::path& folder, const PrtSet& set) {
         throw Error("PRT set: the VQ codebook does not match the atlas and bands");
       write_block(staging / kVqFile, channels, set.vq.representatives.data(),
                   uint64_t(set.vq.count()));
-      std::ofstream out(staging / kVqIndexFile, std::ios::binary);
       const uint32_t header[3] = {kVersion, uint32_t(set.atlas.width), uint32_t(set.atlas.height)};
-      out.write(kIndexMagic, 8);
-      out.write(reinterpret_cast<const char*>(header), sizeof(header));
-      out.write(reinterpret_cast<const char*>(set.vq.indices.data()),
-                std::streamsize(set.vq.indices.size() * sizeof(uint16_t)));
-      if (!out) throw Error(fmt::format("{}: cannot write", (staging / kVqIndexFile).string()));
+      write_file_atomically((staging / kVqIndexFile).string(),
+                            {bytes_of(kIndexMagic, 8), bytes_of(header, 3),
+                             bytes_of(set.vq.indices.data(), set.vq.indices.size())});
       manifest["vq"] = {{"representatives", set.vq.count()},
                         {"file", kVqFile},
                         {"indices", kVqIndexFile},
@@ -209,54 +184,61 @@ PrtSet load_prt_set(const fs::path& folder) {
   if (!fs::is_regular_file(folder / kManifest, ec))
     throw Error(fmt::format("{}: no {} (not a PRT folder)", where, kManifest));
   const nlohmann::json j = read_json_file(mw);
-  if (!j.is_object()) throw Error(fmt::format("{}: must be a JSON object", mw));
-  if (!field(j, "format", mw).is_string() || j.at("format") != "illum-prt" ||
-      unsigned_field(j, "version", mw, 1u << 30) != kVersion)
-    throw Error(fmt::format("{}: not an illum-prt version {} manifest", mw, kVersion));
+  const ManifestFields manifest(j, mw);
+  manifest.expect_format("illum-prt", kVersion);
   PrtSet set;
   set.folder = where;
-  set.bands = int(unsigned_field(j, "bands", mw, 1u << 30));
-  if (set.bands < kMinPrtBands || set.bands > kMaxPrtBands)
-    throw Error(fmt::format("{}: bands = {} must lie in [{}, {}]", mw, set.bands, kMinPrtBands,
-                            kMaxPrtBands));
-  try {
-    set.mode = prt_mode_from_string(string_field(j, "mode", mw));
-  } catch (const Error& e) {
-    throw Error(fmt::format("{}: {}", mw, e.what()));
-  }
-  set.scene = string_field(j, "scene", mw);
-  set.scene_triangles = unsigned_field(j, "scene_triangles", mw, uint64_t{1} << 40);
-  set.scene_hash = string_field(j, "scene_hash", mw);
-  if (set.scene_hash.size() != 16 ||
-      set.scene_hash.find_first_not_of("0123456789abcdef") != std::string::npos)
-    throw Error(fmt::format("{}: 'scene_hash' must be 16 lowercase hex digits", mw));
-  if (j.contains("bake")) set.bake = j.at("bake");
-  set.atlas = atlas::load_atlas(folder / file_field(j, "atlas", mw));
-  if (unsigned_field(j, "width", mw, 1u << 30) != uint64_t(set.atlas.width) ||
-      unsigned_field(j, "height", mw, 1u << 30) != uint64_t(set.atlas.height))
-    throw Error(fmt::format("{}: width/height differ from the atlas's {}x{}", mw, set.atlas.width,
-                            set.atlas.height));
-  const uint32_t channels = uint32_t(3 * sh::coefficient_count(set.bands));
-  if (j.contains("texels")) {
+  set.bands = int(manifest.integer("bands", kMinPrtBands, kMaxPrtBands));
+  // Redundant with bands, so a disagreement is a damaged or hand-edited manifest.
+  const uint64_t coefficients = uint64_t(sh::coefficient_count(set.bands));
+  manifest.integer("coefficients", coefficients, coefficients);
+  set.mode =
+      prt_mode_from_string(manifest.one_of("mode", {"unshadowed", "shadowed", "interreflected"}));
+  set.scene = manifest.string("scene");
+  set.scene_triangles = manifest.integer("scene_triangles", 0, kMaxManifestTriangles);
+  set.scene_hash = manifest.scene_hash("scene_hash");
+  if (manifest.has("bake")) set.bake = manifest.free_object("bake");
+  const uint64_t width = manifest.integer("width", 1, kMaxManifestAtlasSize);
+  const uint64_t height = manifest.integer("height", 1, kMaxManifestAtlasSize);
+  const uint64_t charts = manifest.integer("charts", 0, kMaxManifestCharts);
+  const double texel_size = manifest.number("texel_size", 0.0, kMaxManifestTexelSize, true);
+  set.atlas = atlas::load_atlas(folder / manifest.file_name("atlas"));
+  manifest.expect_same("width", width, uint64_t(set.atlas.width), "the atlas");
+  manifest.expect_same("height", height, uint64_t(set.atlas.height), "the atlas");
+  manifest.expect_same("charts", charts, uint64_t(set.atlas.chart_count), "the atlas");
+  if (float(texel_size) != set.atlas.texel_size)
+    manifest.fail(
+        fmt::format("'texel_size' is {}, but the atlas says {}", texel_size, set.atlas.texel_size));
+  const uint32_t channels = uint32_t(3 * coefficients);
+  if (manifest.has("texels")) {
     const uint64_t points = uint64_t(set.atlas.width) * uint64_t(set.atlas.height);
-    std::vector<float> data = read_block(folder / file_field(j, "texels", mw), channels, points);
+    std::vector<float> data =
+        read_block(folder / manifest.file_name("texels"), channels, points, manifest, "texels");
     set.texel_transfer = TransferMap(set.atlas.width, set.atlas.height, int(channels));
     set.texel_transfer.data = std::move(data);
   }
-  if (j.contains("vertices")) {
-    const nlohmann::json& v = j.at("vertices");
-    if (!v.is_object()) throw Error(fmt::format("{}: 'vertices' must be an object", mw));
-    const nlohmann::json& counts = field(v, "vertex_counts", mw);
-    if (!counts.is_array()) throw Error(fmt::format("{}: 'vertex_counts' must be a list", mw));
+  if (manifest.has("vertices")) {
+    const ManifestFields v = manifest.object("vertices");
+    const nlohmann::json& counts = v.at("vertex_counts");
+    if (!counts.is_array())
+      v.fail(fmt::format("'vertices.vertex_counts' must be a list, not {}",
+                         ManifestFields::shown(counts)));
+    // Bounded one by one and in total, so the sum cannot wrap; read_block then checks the
+    // total against the file's size before allocating.
     uint64_t total = 0;
     std::vector<uint64_t> each;
     for (const nlohmann::json& c : counts) {
-      if (!c.is_number_unsigned() || c.get<uint64_t>() > (uint64_t{1} << 32))
-        throw Error(fmt::format("{}: 'vertex_counts' must hold integers in [0, 2^32]", mw));
+      if (!(c.is_number_unsigned() || (c.is_number_integer() && c.get<int64_t>() >= 0)) ||
+          c.get<uint64_t>() > kMaxPrtVertices || total + c.get<uint64_t>() > kMaxPrtVertices)
+        v.fail(
+            fmt::format("'vertices.vertex_counts' must hold integers ≥ 0 summing to at most {}, "
+                        "not {}",
+                        kMaxPrtVertices, ManifestFields::shown(c)));
       each.push_back(c.get<uint64_t>());
       total += each.back();
     }
-    const std::vector<float> data = read_block(folder / file_field(v, "file", mw), channels, total);
+    const std::vector<float> data =
+        read_block(folder / v.file_name("file"), channels, total, v, "vertices.vertex_counts");
     size_t at = 0;
     for (uint64_t c : each) {
       set.vertex_transfer.emplace_back(data.begin() + std::ptrdiff_t(at),
@@ -264,14 +246,17 @@ PrtSet load_prt_set(const fs::path& folder) {
       at += c * channels;
     }
   }
-  if (j.contains("vq")) {
-    const nlohmann::json& v = j.at("vq");
-    if (!v.is_object()) throw Error(fmt::format("{}: 'vq' must be an object", mw));
-    const uint64_t count = unsigned_field(v, "representatives", mw, kMaxVqRepresentatives);
-    if (count == 0) throw Error(fmt::format("{}: 'vq' needs at least one representative", mw));
+  if (manifest.has("vq")) {
+    const ManifestFields v = manifest.object("vq");
+    const uint64_t count = v.integer("representatives", 1, kMaxVqRepresentatives);
+    // The quantizer's own record: checked for type and range though nothing reads them back.
+    v.integer("iterations", 0, uint64_t{1} << 31);
+    v.number("max_distance", 0.0, std::numeric_limits<float>::max());
+    v.number("rms_distance", 0.0, std::numeric_limits<float>::max());
     set.vq.dimension = int(channels);
-    set.vq.representatives = read_block(folder / file_field(v, "file", mw), channels, count);
-    const fs::path ipath = folder / file_field(v, "indices", mw);
+    set.vq.representatives =
+        read_block(folder / v.file_name("file"), channels, count, v, "vq.representatives");
+    const fs::path ipath = folder / v.file_name("indices");
     const std::string iw = ipath.string();
     std::ifstream in(ipath, std::ios::binary | std::ios::ate);
     if (!in) throw Error(fmt::format("{}: cannot open", iw));
