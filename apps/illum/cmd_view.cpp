@@ -14,6 +14,7 @@
 
 #include "baked_display.h"
 #include "commands.h"
+#include "illum/core/file_write.h"
 #include "illum/core/log.h"
 #include "illum/gpu/context.h"
 #include "illum/realtime/renderer.h"
@@ -41,27 +42,9 @@ struct ViewArgs {
   LightingArgs lighting;  // --sun, --sky
 };
 
-// One line of JSON, written through a hidden temporary name renamed on success.
+// One line of JSON, checked to the last byte and renamed into place (core/file_write.h).
 void write_camera(const std::string& path, const Camera& camera) {
-  const std::filesystem::path target(path);
-  const std::filesystem::path tmp =
-      target.parent_path() / fmt::format(".{}.{}.tmp", target.filename().string(), ::getpid());
-  {
-    std::ofstream out(tmp);
-    out << realtime::camera_json(camera) << '\n';
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(fmt::format("--camera-out {}: cannot write the file", path));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(fmt::format("--camera-out {}: cannot write the file ({})", path, ec.message()));
-  }
+  write_file_atomically(path, realtime::camera_json(camera) + "\n");
 }
 
 void run_view(const ViewArgs& args) {

@@ -54,6 +54,21 @@ TEST_F(DiskFullTest, RenderedImageThatDoesNotFitLeavesNothing) {
   EXPECT_GT(fs::file_size(dir_ / "out.png"), 8u * 1024u) << "the limited runs had to fail";
 }
 
+TEST_F(DiskFullTest, AtlasThatDoesNotFitLeavesNothing) {
+  // The caustics scene's sphere makes an atlas file of hundreds of KiB while its 16² layer and
+  // preview stay under 1 KiB: the atlas writer is the one that meets the 8 KiB limit.
+  const std::string bake = "bake caustics --resolution 16 --spp 1 --seed 1 -o lm";
+  const Result r = run_limited(bake, 8);
+  expect_bad_input(r, "atlas.bin");
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  EXPECT_TRUE(left().empty()) << joined(left());
+  const Result ok = run_limited(bake, 1 << 20);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_GT(fs::file_size(dir_ / "lm" / "atlas.bin"), 8u * 1024u) << "the limited run had to fail";
+  EXPECT_LT(fs::file_size(dir_ / "lm" / "layer0.exr"), 8u * 1024u);
+  EXPECT_LT(fs::file_size(dir_ / "lm" / "preview.png"), 8u * 1024u);
+}
+
 #ifdef ILLUM_HAVE_GPU  // `illum frame` exists only with the GPU layers
 TEST_F(DiskFullTest, TechniqueListingThatDoesNotFitLeavesNothing) {
   const Result r = run_limited("frame --list --json list.json", 1);

@@ -17,10 +17,10 @@
 #include <string_view>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include "illum/atlas/atlas.h"
 #include "illum/core/error.h"
+#include "illum/core/file_write.h"
 
 namespace illum::atlas {
 namespace {
@@ -176,32 +176,9 @@ void save_atlas(const Atlas& atlas, const std::filesystem::path& path) {
     for (uint32_t c : mesh.triangle_chart) w.u32(c);
   }
 
-  // Written beside the target under a hidden name and renamed, so a failed write leaves no
-  // partial file and an existing atlas is replaced atomically.
-  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
-  const std::filesystem::path temp =
-      folder / fmt::format(".{}.tmp{}", path.filename().string(), ::getpid());
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw Error(
-          fmt::format("{}: cannot create '{}' (does the folder exist?)", where, temp.string()));
-    out.write(w.data().data(), std::streamsize(w.data().size()));
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temp, ignored);
-      throw Error(fmt::format("{}: writing '{}' failed", where, temp.string()));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw Error(
-        fmt::format("{}: cannot rename the temporary file into place: {}", where, ec.message()));
-  }
+  // Checked to the last byte and renamed into place (core/file_write.h): a full disk is one
+  // error and leaves neither a partial atlas nor a temporary file.
+  write_file_atomically(path.string(), w.data());
 }
 
 Atlas load_atlas(const std::filesystem::path& path) {
