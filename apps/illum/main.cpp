@@ -139,6 +139,7 @@ int main(int argc, char** argv) {
   int code = 0;
   std::string message;  // the one line for stderr, if any
   try {
+    if (job) job->check_settings();
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     if (!root) return 0;
@@ -187,19 +188,14 @@ int main(int argc, char** argv) {
     code = 1;
     message = fmt::format("illum: error: {}", e.what());
   }
+  // Several ranks end together (distributed/README.md "Failure"): they agree on the exit
+  // code, and rank 0 alone prints the first failing rank's line.
+  if (job && job->ranks() > 1) {
+    if (code == 0) illum::log::release();
+    return job->finish(code, message);
+  }
   if (code != 0) {
-    // Another rank's line says which rank it comes from; rank 0's reads as without mpirun.
-    if (!message.empty()) {
-      if (!root) message.replace(0, 7, fmt::format("illum: rank {}: ", job->rank()));
-      std::fprintf(stderr, "%s\n", message.c_str());
-    }
-    if (job && job->ranks() > 1) {
-      // mpirun's SIGTERM: the launcher is already ending every rank, and MPI_Finalize would
-      // wait for ranks that are gone.
-      if (illum::interrupt_signal() == SIGTERM) std::_Exit(code);
-      // The other ranks may be waiting for this one: end them all (mpirun exits with `code`).
-      job->abort(code);
-    }
+    if (!message.empty()) std::fprintf(stderr, "%s\n", message.c_str());
     return code;
   }
   illum::log::release();

@@ -7,12 +7,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -60,6 +63,41 @@ class CliTest : public ::testing::Test {
     r.out = slurp(out);
     r.err = slurp(err);
     return r;
+  }
+  // Starts `command` under /bin/sh -c without waiting ("exec ..." makes the pid the
+  // command's own, so signals reach it rather than the shell).
+  static pid_t start_command(const std::string& command) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    return pid;
+  }
+  // Waits up to `limit` for `pid` to end and stores its wait status; past the limit kills it
+  // (SIGCONT, then SIGKILL) and returns false.
+  static bool wait_for(pid_t pid, std::chrono::milliseconds limit, int* status) {
+    const auto start = std::chrono::steady_clock::now();
+    while (waitpid(pid, status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() - start > limit) {
+        kill(pid, SIGCONT);
+        kill(pid, SIGKILL);
+        waitpid(pid, status, 0);
+        return false;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return true;
+  }
+  // start_command, `signal` after `delay`, wait_for: the fork–signal–wait of the tests that
+  // stop a running command. False when it did not end within `limit` of the signal.
+  static bool signal_and_wait(const std::string& command, std::chrono::milliseconds delay,
+                              int signal, std::chrono::milliseconds limit, int* status) {
+    const pid_t pid = start_command(command);
+    if (pid < 0) return false;
+    std::this_thread::sleep_for(delay);
+    kill(pid, signal);
+    return wait_for(pid, limit, status);
   }
   fs::path write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;

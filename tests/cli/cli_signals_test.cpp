@@ -21,24 +21,10 @@ TEST_F(CliTest, StopSignalsEndARenderWithNoOutput) {
                             "/bin/illum render cornell --width 128 --height 128 --spp 100000 "
                             "-o " +
                             out.string() + " 2>" + err.string() + " </dev/null";
-    const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-      execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
-    ASSERT_EQ(kill(pid, signal), 0);
     int status = 0;
-    const auto start = std::chrono::steady_clock::now();
-    while (waitpid(pid, &status, WNOHANG) == 0) {
-      if (std::chrono::steady_clock::now() - start > std::chrono::seconds(30)) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        FAIL() << "illum did not stop within 30 s of signal " << signal;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    ASSERT_TRUE(signal_and_wait(cmd, std::chrono::milliseconds(1000), signal,
+                                std::chrono::seconds(30), &status))
+        << "illum did not stop within 30 s of signal " << signal;
     ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
     EXPECT_EQ(WEXITSTATUS(status), 130) << signal;
     const std::string text = slurp(err);

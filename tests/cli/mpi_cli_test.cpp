@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <regex>
 #include <sstream>
@@ -190,24 +191,28 @@ TEST_F(MpiCli, WhatCannotBeSplitIsRefusedOnSeveralRanks) {
   const std::string small = " --width 16 --height 16 --spp 2 -o " + out.string();
   const Result time = mpirun(2, "render cornell --time 1" + small);
   EXPECT_EQ(time.exit_code, 2) << time.err;
+  EXPECT_EQ(time.err_lines(), 1) << time.err;
   EXPECT_NE(time.err.find("illum: error: --time 1 cannot run on 2 MPI ranks"), std::string::npos)
       << time.err;
   const Result sppm = mpirun(3, "render cornell -i sppm" + small);
   EXPECT_EQ(sppm.exit_code, 2) << sppm.err;
+  EXPECT_EQ(sppm.err_lines(), 1) << sppm.err;
   EXPECT_NE(sppm.err.find("illum: error: --integrator sppm cannot run on 3 MPI ranks"),
             std::string::npos)
       << sppm.err;
   // The sequential bakers: radiosity's and PRT's shooting loops run over every patch.
   const Result radiosity =
-      mpirun(2, "bake cornell --method radiosity --resolution 16 -o " + (dir_ / "lm").string());
+      mpirun(3, "bake cornell --method radiosity --resolution 16 -o " + (dir_ / "lm").string());
   EXPECT_EQ(radiosity.exit_code, 2) << radiosity.err;
-  EXPECT_NE(radiosity.err.find("illum: error: bake --method radiosity cannot run on 2 MPI ranks"),
+  EXPECT_EQ(radiosity.err_lines(), 1) << radiosity.err;
+  EXPECT_NE(radiosity.err.find("illum: error: bake --method radiosity cannot run on 3 MPI ranks"),
             std::string::npos)
       << radiosity.err;
   const Result prt =
-      mpirun(2, "bake cornell --kind prt --resolution 16 -o " + (dir_ / "prt").string());
+      mpirun(3, "bake cornell --kind prt --resolution 16 -o " + (dir_ / "prt").string());
   EXPECT_EQ(prt.exit_code, 2) << prt.err;
-  EXPECT_NE(prt.err.find("illum: error: bake --kind prt cannot run on 2 MPI ranks"),
+  EXPECT_EQ(prt.err_lines(), 1) << prt.err;
+  EXPECT_NE(prt.err.find("illum: error: bake --kind prt cannot run on 3 MPI ranks"),
             std::string::npos)
       << prt.err;
   EXPECT_TRUE(outputs().empty());
@@ -241,26 +246,102 @@ TEST_F(MpiCli, CtrlCToMpirunEndsTheJobWithNoOutput) {
                                              out.string()) +
                           " >" + (dir_ / "mpirun-stdout.txt").string() + " 2>" +
                           (dir_ / "mpirun-stderr.txt").string() + " </dev/null";
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  std::this_thread::sleep_for(std::chrono::milliseconds(2000));
-  ASSERT_EQ(kill(pid, SIGINT), 0);
   int status = 0;
-  const auto start = std::chrono::steady_clock::now();
-  while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() - start > std::chrono::seconds(30)) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      FAIL() << "mpirun did not end within 30 s of SIGINT";
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
+  ASSERT_TRUE(signal_and_wait(cmd, std::chrono::milliseconds(2000), SIGINT,
+                              std::chrono::seconds(30), &status))
+      << "mpirun did not end within 30 s of SIGINT";
   EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
   EXPECT_TRUE(outputs().empty()) << "left " << outputs().front();
+}
+
+// Bad input every rank sees: the ranks agree before any output, rank 0 alone prints, and
+// every rank ends through MPI_Finalize with exit code 2. mpirun -q (what MpiCli runs) adds
+// nothing, so stderr is exactly illum's one line, unfiltered.
+TEST_F(MpiCli, BadInputOnThreeRanksIsOneLine) {
+  const std::string out = (dir_ / "out.png").string();
+  const struct {
+    std::string args, env, needle;
+  } cases[] = {
+      {"render cornell --spp 0 -o " + out, "", "--spp"},
+      {"render no-such-scene --spp 1 -o " + out, "", "no-such-scene"},
+      {"render cornell --spp 1 -o " + (dir_ / "nodir" / "x.png").string(), "", "nodir"},
+      {"render cornell --bogus-option -o " + out, "", "--bogus-option"},
+      {"render cornell --spp 1 -o " + out, "ILLUM_RANK_TIMEOUT=soon", "ILLUM_RANK_TIMEOUT"},
+      {"relight cornell -o " + out, "", "relight"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args + " " + c.env);
+    const Result r = mpirun(3, c.args, c.env);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(r.err_lines(), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("illum: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(c.needle), std::string::npos) << r.err;
+    EXPECT_TRUE(outputs().empty()) << "left " << outputs().front();
+  }
+}
+
+// The rank (pid) of `mpirun`'s child process whose OMPI_COMM_WORLD_RANK is `rank`, or -1.
+pid_t rank_pid(pid_t mpirun, int rank) {
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    const std::string stat = slurp(entry.path() / "stat");
+    const size_t paren = stat.rfind(')');
+    if (paren == std::string::npos) continue;
+    std::istringstream fields(stat.substr(paren + 2));
+    std::string state;
+    pid_t parent = 0;
+    fields >> state >> parent;
+    if (parent != mpirun) continue;
+    const std::string env = slurp(entry.path() / "environ");
+    if (env.find(std::string("OMPI_COMM_WORLD_RANK=") + std::to_string(rank) + '\0') !=
+        std::string::npos)
+      return static_cast<pid_t>(std::stol(name));
+  }
+  return -1;
+}
+
+// A rank stopped with SIGSTOP sends no heartbeat: within ILLUM_RANK_TIMEOUT (5 s here) the
+// others end the job with one line and a non-zero exit, writing nothing.
+TEST_F(MpiCli, AStoppedRankEndsTheJobWithinTheTimeout) {
+  constexpr int kTimeout = 5;
+  constexpr int kMargin = 20;  // start-up of the ranks and a loaded machine
+  for (const int stopped : {2, 0}) {
+    SCOPED_TRACE("stopped rank " + std::to_string(stopped));
+    const fs::path out = dir_ / "out.png", err = dir_ / "mpirun-stderr.txt";
+    const std::string cmd =
+        "exec " +
+        mpirun_command(3, "render cornell --width 128 --height 128 --spp 100000 -o " + out.string(),
+                       "ILLUM_RANK_TIMEOUT=" + std::to_string(kTimeout)) +
+        " >/dev/null 2>" + err.string() + " </dev/null";
+    const pid_t pid = start_command(cmd);
+    ASSERT_GT(pid, 0);
+    pid_t rank = -1;
+    for (int i = 0; i < 300 && rank < 0; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      rank = rank_pid(pid, stopped);
+    }
+    ASSERT_GT(rank, 0) << "rank " << stopped << " did not start";
+    std::this_thread::sleep_for(std::chrono::seconds(2));  // the render is under way
+    ASSERT_EQ(kill(rank, SIGSTOP), 0);
+    const auto start = std::chrono::steady_clock::now();
+    int status = 0;
+    const bool ended = wait_for(pid, std::chrono::seconds(kTimeout + kMargin), &status);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    kill(rank, SIGCONT);  // if mpirun left it (it does not), let SIGKILL below reach it
+    kill(rank, SIGKILL);
+    ASSERT_TRUE(ended) << "the job did not end within " << kTimeout + kMargin << " s";
+    EXPECT_GE(seconds, kTimeout - 1.0) << "ended before the timeout";
+    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    const std::string text = slurp(err);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+    EXPECT_NE(text.find("illum: error: rank " + std::to_string(stopped) + " sent no sign of life"),
+              std::string::npos)
+        << text;
+    fs::remove(err);
+    EXPECT_TRUE(outputs().empty()) << "left " << outputs().front();
+  }
 }
 
 }  // namespace

@@ -6,6 +6,9 @@
 #include <atomic>
 #include <chrono>
 #include <climits>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -21,6 +24,7 @@
 #include "illum/core/error.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/log.h"
+#include "illum/distributed/heartbeat.h"
 
 namespace illum::distributed {
 
@@ -49,8 +53,10 @@ bool launched_by_mpi_launcher() {
 }
 
 MpiJob::MpiJob(int* argc, char*** argv) {
+  // MPI_THREAD_MULTIPLE for the heartbeat's thread; the work protocol itself needs only
+  // FUNNELED (rank 0's main thread alone calls MPI for it).
   int provided = MPI_THREAD_SINGLE;
-  check(MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+  check(MPI_Init_thread(argc, argv, MPI_THREAD_MULTIPLE, &provided), "MPI_Init_thread");
   if (provided < MPI_THREAD_FUNNELED) {
     MPI_Finalize();
     throw Error("MPI: the library does not support MPI_THREAD_FUNNELED");
@@ -65,10 +71,29 @@ MpiJob::MpiJob(int* argc, char*** argv) {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   threads_per_rank_ = std::max(1, cores / std::max(1, ranks_on_node_));
   if (const char* text = std::getenv("ILLUM_TEST_ABORT_RANK")) test_abort_rank_ = std::atoi(text);
+  if (const char* text = std::getenv("ILLUM_RANK_TIMEOUT")) {
+    char* end = nullptr;
+    const double seconds = std::strtod(text, &end);
+    if (*text == '\0' || *end != '\0' || !std::isfinite(seconds) || seconds <= 0.0 ||
+        seconds > 86400.0)
+      settings_error_ =
+          fmt::format("ILLUM_RANK_TIMEOUT='{}' must be a number of seconds in (0, 86400]", text);
+    else
+      rank_timeout_ = seconds;
+  }
+  // Collective (it duplicates the communicator): every rank decides alike, as `provided` is
+  // the library's and the size the job's.
+  if (ranks_ > 1 && provided >= MPI_THREAD_MULTIPLE)
+    heartbeat_ = std::make_unique<Heartbeat>(MPI_COMM_WORLD, rank_, ranks_, rank_timeout_);
 }
 
 MpiJob::~MpiJob() {
+  heartbeat_.reset();
   MPI_Finalize();
+}
+
+void MpiJob::check_settings() const {
+  if (!settings_error_.empty()) throw Error(settings_error_);
 }
 
 void MpiJob::abort(int exit_code) {
@@ -76,8 +101,70 @@ void MpiJob::abort(int exit_code) {
   std::_Exit(exit_code);  // MPI_Abort does not return; this keeps [[noreturn]] honest
 }
 
+MpiJob::Outcome MpiJob::agree(int code, const std::string& line) {
+  std::vector<int> codes(static_cast<size_t>(ranks_), 0);
+  check(MPI_Allgather(&code, 1, MPI_INT, codes.data(), 1, MPI_INT, MPI_COMM_WORLD),
+        "MPI_Allgather");
+  Outcome outcome;
+  for (int r = 0; r < ranks_ && outcome.rank < 0; ++r)
+    if (codes[static_cast<size_t>(r)] != 0) outcome = {codes[static_cast<size_t>(r)], r, ""};
+  if (outcome.rank < 0) return outcome;
+  int length = outcome.rank == rank_ ? static_cast<int>(std::min<size_t>(line.size(), 4096)) : 0;
+  check(MPI_Bcast(&length, 1, MPI_INT, outcome.rank, MPI_COMM_WORLD), "MPI_Bcast");
+  outcome.line =
+      outcome.rank == rank_ ? line.substr(0, size_t(length)) : std::string(size_t(length), ' ');
+  check(MPI_Bcast(outcome.line.data(), length, MPI_CHAR, outcome.rank, MPI_COMM_WORLD),
+        "MPI_Bcast");
+  return outcome;
+}
+
+int MpiJob::finish(int code, std::string line) {
+  auto print = [](const std::string& text) {
+    if (!text.empty()) std::fprintf(stderr, "%s\n", text.c_str());
+  };
+  // A silent peer: no collective can complete, so no MPI_Finalize either.
+  if (heartbeat_ && heartbeat_->lost()) heartbeat_->end_job();
+  // This rank was the stopped one, and mpirun is ending the job that the others ended:
+  // they said why.
+  if (code != 0 && heartbeat_ && heartbeat_->stalled_self()) std::_Exit(code);
+  // Another rank's line says which rank it comes from; rank 0's reads as without mpirun.
+  if (rank_ != 0 && line.rfind("illum: ", 0) == 0)
+    line.replace(0, 7, fmt::format("illum: rank {}: ", rank_));
+  if (code != 0 && line.empty())
+    line = code == 130 ? fmt::format("illum: rank {}: interrupted; nothing was written", rank_)
+                       : fmt::format("illum: rank {}: failed with exit code {}", rank_, code);
+  // mpirun's SIGTERM: the launcher is already ending every rank, and MPI_Finalize would
+  // wait for ranks that are gone. Only rank 0 has a line for it.
+  if (code != 0 && interrupt_signal() == SIGTERM) {
+    if (rank_ == 0) print(line);
+    std::_Exit(code);
+  }
+  if (agreed_.code != 0) return agreed_end(agreed_);
+  // Failed inside a split loop: the other ranks wait in it for this one and cannot come to
+  // an agreement, so the job is aborted (mpirun exits with `code`; -q keeps its banner out).
+  if (code != 0 && in_loop_) {
+    print(line);
+    abort(code);
+  }
+  return agreed_end(agree(code, line));
+}
+
+int MpiJob::agreed_end(const Outcome& outcome) const {
+  if (rank_ != 0) return 0;
+  if (!outcome.line.empty()) std::fprintf(stderr, "%s\n", outcome.line.c_str());
+  return outcome.code;
+}
+
 void MpiJob::run(int64_t count, size_t record_bytes, int grain, const UnitWork& work,
                  const UnitKeep& keep) {
+  // Every rank confirms it reached the loop, so a refusal on any rank before it (bad input
+  // one rank sees, a file another cannot read) ends every rank through finish(), with one
+  // line, instead of leaving the others waiting here.
+  const Outcome before = agree(0, "");
+  if (before.code != 0) {
+    agreed_ = before;
+    throw JobFailed(before.line);
+  }
   const int tag = (phase_ * kTagsPerPhase) % kTagCycle;
   ++phase_;
   // A unit: `grain` items for each of this rank's threads, as big as one message may be.
@@ -94,10 +181,12 @@ void MpiJob::run(int64_t count, size_t record_bytes, int grain, const UnitWork& 
         "distributed: a rank may use {} core(s) (mpirun binds ranks to cores), fewer than its {} "
         "threads; start mpirun with --bind-to none (or --map-by slot:PE={}) to use them",
         threads, asked, asked);
+  in_loop_ = true;
   if (rank_ == 0)
     serve(count, record_bytes, want, tag, work, keep);
   else
     ask(count, record_bytes, want, tag, work);
+  in_loop_ = false;
 }
 
 // Worker: ask for a unit, compute it, send its records, until the root says there is none.
