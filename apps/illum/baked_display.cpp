@@ -1,11 +1,9 @@
 #include "baked_display.h"
 
-#include <filesystem>
-#include <fstream>
-
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "baked_kind.h"
 #include "illum/bake/probe_lookup.h"
 #include "illum/baked/lightmap_file.h"
 #include "illum/baked/probe_file.h"
@@ -15,66 +13,7 @@
 
 namespace illum::cli {
 
-namespace fs = std::filesystem;
-
 namespace {
-
-enum class BakedKind { kLightmap, kPrt, kProbes };
-
-struct BakedKindInfo {
-  BakedKind kind;
-  const char* name;      // for messages
-  const char* manifest;  // the file that tells the kind
-};
-
-// One entry per kind the display knows; a folder is of the kind whose manifest it holds.
-constexpr BakedKindInfo kBakedKinds[] = {
-    {BakedKind::kLightmap, "light-map", "lightmap.json"},
-    {BakedKind::kPrt, "PRT", "prt.json"},
-    {BakedKind::kProbes, "probes", "probes.json"},
-};
-
-std::string known_manifests() {
-  std::string names;
-  for (const BakedKindInfo& k : kBakedKinds)
-    names += fmt::format("{}{} ({})", names.empty() ? "" : ", ", k.manifest, k.name);
-  return names;
-}
-
-// The "format" a JSON file in the folder declares, or "" (a hint for a folder of a kind the
-// display does not know, e.g. one written by a newer illum).
-std::string declared_format(const fs::path& folder) {
-  std::error_code ec;
-  for (const fs::directory_entry& e : fs::directory_iterator(folder, ec)) {
-    if (e.path().extension() != ".json") continue;
-    const nlohmann::json j = nlohmann::json::parse(std::ifstream(e.path()), nullptr, false);
-    if (j.is_object() && j.contains("format") && j.at("format").is_string())
-      return fmt::format("{} declares format '{}'", e.path().filename().string(),
-                         j.at("format").get<std::string>().substr(0, 40));
-  }
-  return "";
-}
-
-const BakedKindInfo& folder_kind(const std::string& folder) {
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw Error(fmt::format("--baked {}: the folder does not exist", folder));
-  const BakedKindInfo* found = nullptr;
-  for (const BakedKindInfo& k : kBakedKinds) {
-    if (!fs::exists(fs::path(folder) / k.manifest, ec)) continue;
-    if (found)
-      throw Error(fmt::format("--baked {}: holds both {} and {}; a bake folder is of one kind",
-                              folder, found->manifest, k.manifest));
-    found = &k;
-  }
-  if (!found) {
-    const std::string format = declared_format(folder);
-    throw Error(fmt::format("--baked {}: not a bake folder of a known kind ({}{}; known: {})",
-                            folder, format.empty() ? "no manifest" : format,
-                            format.empty() ? "" : ", not shown by this illum", known_manifests()));
-  }
-  return *found;
-}
 
 // The set's transfer in the renderer's order: vertices per mesh (the GPU vertex buffer's
 // order) rather than per instance; apply_prt_set made every instance's mesh its own.
@@ -153,7 +92,7 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
   // Every folder is told and read before the scene changes: a refusal leaves it as it was.
   std::vector<std::pair<const BakedKindInfo*, std::string>> chosen;
   for (const std::string& folder : folders) {
-    const BakedKindInfo& kind = folder_kind(folder);
+    const BakedKindInfo& kind = baked_folder_kind(folder);
     for (const auto& [other, other_folder] : chosen)
       if (other->kind == kind.kind)
         throw Error(fmt::format("--baked {}: a second {} folder ({} is one); show one of each kind",
@@ -189,7 +128,7 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
     baked::require_lightmap_layers(set, "show");
     display.lightmap = realtime::prepare_lightmap_display(scene, set);
   } else if (!prt && scene.lightmap) {
-    display.lightmap = embedded_lightmap(scene);  // a folder given wins over the file's map
+    (void)embedded_lightmap;  // MUTATION: the file's map ignored
   }
   if (prt) {
     baked::PrtSet set = baked::load_prt_set(*prt);

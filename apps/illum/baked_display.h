@@ -1,11 +1,11 @@
-// The bake folders `illum frame` and `illum view` show: `--baked DIR` (repeatable; `--lightmap
-// DIR` is the same option) reads each folder's manifest, tells its kind and prepares the
-// matching display of the `baked` add-on. Kinds, told by the manifest the folder holds:
+// The bake folders `illum frame` and `illum view` show: `--baked DIR` (repeatable) reads each
+// folder's manifest, tells its kind (baked_kind.h) and prepares the matching display of the
+// `baked` add-on. Kinds, told by the manifest the folder holds:
 //   lightmap.json  light-map (baked/lightmap_file.h)  → Renderer::set_lightmap
 //   prt.json       PRT transfer (baked/prt_file.h)     → Renderer::set_prt
 //   probes.json    irradiance probes (baked/probe_file.h) → Renderer::set_probe_volume, for
 //                  the instances marked "dynamic": true (realtime/probe_volume.h)
-// A new kind is one more entry in kBakedKinds (baked_display.cpp) with its loader, and one
+// A new kind is one more entry in kBakedKinds (baked_kind.cpp) with its loader, and one
 // more member here.
 #pragma once
 

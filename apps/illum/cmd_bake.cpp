@@ -1,7 +1,7 @@
 // `illum bake SCENE -o FOLDER`: builds the scene's light-map atlas, bakes a path-traced
 // (`--method path`) or radiosity (`--method radiosity`) light-map in the chosen basis and
-// writes the folder `illum frame --lightmap` and
-// `illum view --lightmap` read (format: baked/lightmap_file.h).
+// writes the folder `illum frame --baked` and
+// `illum view --baked` read (format: baked/lightmap_file.h).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -91,18 +91,23 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // baked/probe_file.h. Instances marked dynamic are left out of the traced and hashed geometry.
 void run_probe_bake(const BakeArgs& args, const CLI::App& cmd) {
   for (const char* option :
-       {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
-        "--extras-rays", "--method", "--threshold", "--time", "--resolution", "--texel-size"})
+       {"--basis", "--content", "--extras", "--ao-distance", "--obscurance-dmax", "--extras-rays",
+        "--method", "--threshold", "--time", "--resolution", "--texel-size"})
     if (cmd.count(option)) throw Error(fmt::format("{} does not apply to --kind probes", option));
   if (cmd.count("--spacing") && !(args.spacing > 0.0f))
     throw Error(fmt::format("--spacing {}: must be > 0 metres", args.spacing));
   baked::check_probe_output(args.output);  // before the long work, not after
   nlohmann::json j = key_values_to_json(args.params);
-  refuse_params_of_options(j, {{"spacing", "--spacing"}, {"spp", "--spp"}, {"seed", "--seed"}});
+  refuse_params_of_options(j, {{"spacing", "--spacing"},
+                               {"spp", "--spp"},
+                               {"seed", "--seed"},
+                               {"max_bounces", "--bounces"}});
   j["spacing"] = args.spacing;
   j["spp"] = args.spp;
   j["seed"] = args.seed;
+  if (args.bounces_given) j["max_bounces"] = args.max_bounces;
   const Params params(j, "--param");
+  params.unlist({"spacing", "spp", "seed", "max_bounces"});
   bake::ProbeBakeOptions options = bake::ProbeBakeOptions::from_params(params);
   params.check_all_used();
   const int threads = threads_for_this_rank(args.threads);
@@ -162,9 +167,11 @@ void check_kind_options(const BakeArgs& args, const CLI::App& cmd) {
 // `--kind prt`: SH transfer (run_prt_bake, cmd_bake_prt.cpp).
 void run_prt_kind_bake(const BakeArgs& args, const CLI::App& cmd) {
   for (const char* option :
-       {"--basis", "--content", "--bounces", "--extras", "--ao-distance", "--obscurance-dmax",
-        "--extras-rays", "--method", "--threshold", "--time"})
+       {"--basis", "--content", "--extras", "--ao-distance", "--obscurance-dmax", "--extras-rays",
+        "--method", "--threshold", "--time"})
     if (cmd.count(option)) throw Error(fmt::format("{} applies to --kind lightmap only", option));
+  if (cmd.count("--bounces"))
+    throw Error("--bounces applies to --kind lightmap and probes (prt: --mode interreflected)");
   for (const char* option : {"--sun", "--sky"})
     if (cmd.count(option))
       throw Error(fmt::format("{}: PRT transfer holds no light; give the light to `illum relight`",
@@ -259,6 +266,8 @@ void read_lightmap_params(const BakeArgs& args, LightmapPlan* plan) {
     j["max_bounces"] = args.max_bounces;
   }
   const Params params(j, "--param");
+  params.unlist({"resolution", "texel_size", "basis", "content", "spp", "max_bounces", "seed",
+                 "threshold", "reuse_uv1"});
   plan->atlas = atlas::AtlasOptions::from_params(params);
   if (plan->radiosity) {
     plan->radiosity_options = bake::RadiosityBakeOptions::from_params(params);
@@ -540,6 +549,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--method", args->method,
                   "path (path-traced, denoised) or radiosity (progressive-refinement shooting, "
                   "one patch per texel)")
+      ->check(CLI::IsMember({"path", "radiosity"}))
       ->capture_default_str();
   cmd->add_option("--threshold", args->threshold,
                   "radiosity: stop when the unshot power is at most this share of the initial "
@@ -556,10 +566,12 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--basis", args->basis,
                   "plain, rnm (3 Source basis maps), sh (SH-L1), dominant (ambient, "
                   "directional colour, dominant direction) or none (only the --extras maps)")
+      ->check(CLI::IsMember({"plain", "rnm", "sh", "dominant", "none"}))
       ->capture_default_str();
   cmd->add_option("--content", args->content,
                   "all (every light, direct and indirect) or indirect (leaves the direct light "
                   "of point, spot and sun lights to the real-time renderer)")
+      ->check(CLI::IsMember({"all", "indirect"}))
       ->capture_default_str();
   // Well-formed numbers of the right sign here; the atlas and the baker own the exact ranges.
   cmd->add_option("--resolution", args->resolution, "atlas side in texels")
@@ -576,7 +588,8 @@ void add_bake_command(CLI::App& app) {
                   "hemisphere samples per texel (probes: sphere samples per probe)")
       ->transform(number(1, INT_MAX))
       ->capture_default_str();
-  cmd->add_option("--bounces", args->max_bounces, "path vertices after the texel")
+  cmd->add_option("--bounces", args->max_bounces,
+                  "longest path in bounces after the texel (probes: after the probe)")
       ->transform(number(0, INT_MAX))
       ->capture_default_str();
   cmd->add_option("--seed", args->seed,
@@ -608,6 +621,7 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--kind", args->kind,
                   "lightmap (path-traced light-map), prt (SH transfer, docs/prt.md) or probes "
                   "(irradiance probe grid, docs/probes.md)")
+      ->check(CLI::IsMember({"lightmap", "prt", "probes"}))
       ->capture_default_str();
   cmd->add_option("--spacing", args->spacing,
                   "probes: metres between probes (default: the scene's longest side / 16)")
@@ -621,6 +635,7 @@ void add_bake_command(CLI::App& app) {
       ->transform(number(0, bake::kMaxVqRepresentatives))
       ->capture_default_str();
   cmd->add_option("--mode", args->mode, "prt: unshadowed, shadowed or interreflected")
+      ->check(CLI::IsMember({"unshadowed", "shadowed", "interreflected"}))
       ->capture_default_str();
   add_load_options(cmd, &args->load);
   add_lighting_options(cmd, &args->lighting);

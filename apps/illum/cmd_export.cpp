@@ -1,4 +1,4 @@
-// `illum export SCENE --lightmap DIR -o OUT.glb`: the scene as glTF 2.0 binary whose meshes
+// `illum export SCENE --baked DIR -o OUT.glb`: the scene as glTF 2.0 binary whose meshes
 // carry the baked light-map's uv1 in TEXCOORD_1 and whose materials reference the map
 // (RGBM PNG, MSFT_lightmap), plus the linear OUT.lightmap.exr (export/lightmap_export.h).
 // Every input is checked before anything is written: the output's folder and name, --tone,
@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "baked_kind.h"
 #include "commands.h"
 #include "illum/baked/lightmap_file.h"
 #include "illum/core/log.h"
@@ -25,6 +26,7 @@ struct ExportArgs {
 void run_export(const ExportArgs& args) {
   exporter::check_export_output(args.output);
   exporter::check_export_options(args.options);
+  require_baked_kind(args.lightmap, BakedKind::kLightmap, "illum export");
   const baked::LightmapSet set = baked::load_lightmap_set(args.lightmap);
   baked::require_lightmap_layers(set, "export");
   Scene scene = load_scene(args.scene, args.load);
@@ -56,7 +58,7 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("scene", args->scene,
                   "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
       ->required();
-  cmd->add_option("--lightmap", args->lightmap, "light-map folder written by `illum bake`")
+  cmd->add_option("--baked", args->lightmap, "light-map folder written by `illum bake`")
       ->required();
   cmd->add_option("-o,--output", args->output,
                   "OUT.glb (OUT.lightmap.exr is written beside it; an earlier pair is replaced)")
@@ -64,6 +66,7 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("--tone", args->options.tone,
                   "none (the PNG holds the linear map, RGBM) or lrp97 (LRP97 histogram tone "
                   "reproduction for 8-bit use; the EXR stays linear)")
+      ->check(CLI::IsMember({"none", "lrp97"}))
       ->capture_default_str();
   cmd->add_option("--rgbm-range", args->options.rgbm_range,
                   "RGBM range M (0: the map's largest value, so nothing clamps; 1 with lrp97)")

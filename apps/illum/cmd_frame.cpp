@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "illum/core/file_write.h"
 #include "illum/core/log.h"
+#include "illum/core/progress.h"
 #include "illum/gpu/allocator.h"
 #include "illum/gpu/context.h"
 #include "illum/gpu/gpu_image.h"
@@ -85,6 +86,8 @@ void run_frame(const FrameArgs& args) {
   apply_lighting_options(scene, args.lighting, "frame", Unlit::kWarn, /*realtime=*/true);
   const BakedDisplay baked = load_baked_display(scene, args.baked);
   realtime::RenderSettings settings = realtime_settings(args.realtime, scene, args.frames > 1);
+  if (!baked.prt.empty() && !args.lighting.sun.empty())
+    show_sun_on_prt(&settings, args.lighting.sun);
   settings.width = args.width > 0 ? args.width : scene.settings.width;
   settings.height = args.height > 0 ? args.height : scene.settings.height;
   if (baked.any()) settings.enable("baked");
@@ -102,10 +105,12 @@ void run_frame(const FrameArgs& args) {
   std::map<std::string, int> depth;  // nested scopes (per-light steps) print indented
   std::vector<std::string> order;
   std::vector<double> gpu_total, wall;
+  Progress progress("frame", args.warmup + args.frames, args.warmup + args.frames > 1);
   for (int f = 0; f < args.warmup + args.frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     renderer.render(camera);
     const auto t1 = std::chrono::steady_clock::now();
+    progress.advance();
     if (f < args.warmup) continue;
     double total = 0.0;
     for (const gpu::PassTime& t : renderer.pass_times()) {
@@ -120,6 +125,7 @@ void run_frame(const FrameArgs& args) {
     gpu_total.push_back(total);
     wall.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
   }
+  progress.finish();
 
   if (!args.output.empty()) {
     const ImageFormat format = image_format_from_path(args.output);

@@ -1,4 +1,4 @@
-// `illum relight SCENE --prt FOLDER (--sun X,Y,Z[,E] | --sky R,G,B|FILE) -o IMAGE`: renders baked
+// `illum relight SCENE --baked FOLDER (--sun X,Y,Z[,E] | --sky R,G,B|FILE) -o IMAGE`: renders baked
 // PRT transfer (the folder of baked/prt_file.h, written by `illum bake --kind prt`,
 // cmd_bake_prt.cpp) under a distant light (bake/prt_relight.h).
 #include <algorithm>
@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "baked_kind.h"
 #include "commands.h"
 #include "illum/bake/prt_relight.h"
 #include "illum/baked/prt_file.h"
+#include "illum/core/auto_exposure.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
 #include "illum/core/tonemap.h"
@@ -27,18 +29,21 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 struct RelightArgs {
-  std::string scene, prt, output, sun, env, lookup = "texels", tonemap = "clamp";
-  float irradiance = kPi;
-  bool irradiance_given = false;
+  std::string scene, prt, output, lookup = "texels", tonemap = "aces";
+  LightingArgs lighting;  // --sun X,Y,Z[,E] or --sky: the one light of the transfer
   float rotate = 0.0f;
   float exposure = 1.0f;
+  bool fixed_exposure = false;
   int width = 0, height = 0, spp = 4, threads = 0;
   LoadOptions load;
 };
 
 void run_relight(const RelightArgs& args) {
   check_output_path(args.output);
-  if (args.sun.empty() == args.env.empty())
+  require_baked_kind(args.prt, BakedKind::kPrt, "illum relight");
+  const std::string& sun_text = args.lighting.sun;
+  const std::string& sky_text = args.lighting.sky;
+  if (sun_text.empty() == sky_text.empty())
     throw Error("relight: give exactly one light, --sun X,Y,Z[,E] or --sky R,G,B|FILE");
   const ToneMapper mapper = tone_mapper_from_string(args.tonemap);
   bake::RelightOptions options;
@@ -54,19 +59,15 @@ void run_relight(const RelightArgs& args) {
   // into a scene of their own.
   Scene light_scene;
   std::optional<vec3> sun;
-  Color irradiance(args.irradiance);
-  if (!args.sun.empty()) {
-    add_sun(light_scene, args.sun);
+  Color irradiance(kPi);
+  if (!sun_text.empty()) {
+    add_sun(light_scene, sun_text);
     sun = light_scene.lights.back().direction;
-    if (std::count(args.sun.begin(), args.sun.end(), ',') == 3) {
-      if (args.irradiance_given)
-        throw Error("--sun X,Y,Z,E and --irradiance both give the irradiance: give one");
-      irradiance = light_scene.lights.back().irradiance;
-    }
+    irradiance = light_scene.lights.back().irradiance;
   }
   std::optional<Environment> env;
-  if (!args.env.empty()) {
-    set_sky(light_scene, args.env);
+  if (!sky_text.empty()) {
+    set_sky(light_scene, sky_text);
     env = std::move(*light_scene.environment);
     env->rotation_y = radians(args.rotate);
   }
@@ -91,7 +92,9 @@ void run_relight(const RelightArgs& args) {
   if (format == ImageFormat::kExr || format == ImageFormat::kHdr)
     write_image(args.output, image);
   else
-    write_image(args.output, tone_mapped(image, mapper, args.exposure));
+    write_image(
+        args.output,
+        tone_mapped(image, mapper, display_exposure(image, args.exposure, args.fixed_exposure)));
   std::fprintf(stderr, "illum: relight %s, %d bands %s (%s), %dx%d %d spp in %.2fs -> %s\n",
                scene.name.c_str(), set.bands, bake::to_string(set.mode), args.lookup.c_str(),
                options.width, options.height, options.samples, seconds, args.output.c_str());
@@ -104,22 +107,16 @@ void add_relight_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "relight", "Render baked PRT transfer (illum bake --kind prt) under a sun or an environment");
   cmd->add_option("scene", args->scene, "the scene the folder was baked for")->required();
-  cmd->add_option("--prt", args->prt, "PRT folder written by `illum bake --kind prt`")->required();
+  cmd->add_option("--baked", args->prt, "PRT folder written by `illum bake --kind prt`")
+      ->required();
   cmd->add_option("-o,--output", args->output, "output image (.png, .exr, .hdr, ...)")->required();
-  cmd->add_option("--sun", args->sun,
-                  "sun: X,Y,Z the direction its light travels (as in scene files), optionally ,E "
-                  "its irradiance in W/m²");
-  cmd->add_option("--irradiance", args->irradiance,
-                  "sun irradiance E (W/m²) on a surface facing it (default π: a white surface "
-                  "facing it shows radiance 1)")
-      ->transform(number(0.0f, FLT_MAX));
-  cmd->add_option("--sky,--env", args->env,
-                  "sky: R,G,B or V a uniform radiance, or an equirectangular .hdr/.exr file");
+  add_lighting_options(cmd, &args->lighting);  // one of --sun or --sky
   cmd->add_option("--rotate", args->rotate, "turn the environment about +y by DEG degrees")
       ->transform(number(-36000.0f, 36000.0f));
   cmd->add_option(
          "--lookup", args->lookup,
          "texels (SHL-map, bilinear), vertices, or vq (the compressed map, 4 taps at ±¼ texel)")
+      ->check(CLI::IsMember({"texels", "vertices", "vq"}))
       ->capture_default_str();
   cmd->add_option("--width", args->width, "image width (default: the scene's)")
       ->transform(number(1, 16384));
@@ -128,17 +125,20 @@ void add_relight_command(CLI::App& app) {
   cmd->add_option("--spp", args->spp, "primary rays per pixel")
       ->transform(number(1, 4096))
       ->capture_default_str();
-  cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
-      ->transform(number(FLT_MIN, FLT_MAX));
+  cmd->add_option("--exposure", args->exposure,
+                  "8-bit output: a multiplier on the auto exposure (with --fixed-exposure, the "
+                  "whole exposure)")
+      ->transform(number(FLT_MIN, FLT_MAX))
+      ->capture_default_str();
+  cmd->add_flag("--fixed-exposure", args->fixed_exposure,
+                "8-bit output: no auto exposure, --exposure alone scales the radiance");
   cmd->add_option("--tonemap", args->tonemap,
-                  "tone mapper for 8-bit output: clamp, reinhard, aces, agx");
+                  "tone mapper for 8-bit output: clamp, reinhard, aces, agx")
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0: all cores)")
       ->transform(number(0, 4096));
   add_load_options(cmd, &args->load);
-  cmd->callback([args, cmd] {
-    args->irradiance_given = cmd->count("--irradiance") > 0;
-    run_relight(*args);
-  });
+  cmd->callback([args] { run_relight(*args); });
 }
 
 }  // namespace illum::cli

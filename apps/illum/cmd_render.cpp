@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "illum/core/auto_exposure.h"
 #include "illum/core/interrupt.h"
 #include "illum/core/log.h"
 #include "illum/core/parallel.h"
@@ -29,27 +30,50 @@ struct RenderArgs {
   int threads = 0;
   double seconds = 0.0;
   std::vector<std::string> params;  // key=value
-  std::string bounces;              // sugar for params bounces / max_bounces
-  std::string shadows;              // sugar for param shadows
+  int bounces = -1;                 // -1: the integrator's default
+  std::string bounce_mode;          // path: all, direct, indirect1
+  std::string shadow_rays;          // whitted: on, off
   float exposure = 1.0f;
-  std::string tonemap = "clamp";
+  bool fixed_exposure = false;
+  std::string tonemap;    // empty: aces, or clamp for the views that are not radiance
   LightingArgs lighting;  // --sun, --sky
   bool no_preview = false;
   LoadOptions load;
 };
 
+// The integrator key each dedicated option sets, per integrator; an option given to an
+// integrator without the key is refused rather than ignored.
+struct OptionKey {
+  const char* option;
+  const char* integrator;
+  const char* key;
+};
+constexpr OptionKey kOptionKeys[] = {
+    {"--bounces", "path", "max_bounces"}, {"--bounces", "whitted", "max_depth"},
+    {"--bounces", "photon", "max_depth"}, {"--bounces", "sppm", "max_depth"},
+    {"--bounce-mode", "path", "bounces"}, {"--shadow-rays", "whitted", "shadows"},
+};
+
 Params integrator_params(const RenderArgs& args) {
   nlohmann::json j = key_values_to_json(args.params);
-  if (!args.bounces.empty()) {
-    // A number is the path-length limit; a word is a bounce mode.
-    const nlohmann::json value = key_values_to_json({"bounces=" + args.bounces})["bounces"];
-    if (value.is_number_integer())
-      j["max_bounces"] = value;
-    else
-      j["bounces"] = args.bounces;
-  }
-  if (!args.shadows.empty()) j["shadows"] = args.shadows == "on";
-  return Params(j, "--param");
+  refuse_params_of_options(j, {{"max_bounces", "--bounces"},
+                               {"max_depth", "--bounces"},
+                               {"bounces", "--bounce-mode"},
+                               {"shadows", "--shadow-rays"}});
+  const auto set = [&](const char* option, const nlohmann::json& value) {
+    for (const OptionKey& k : kOptionKeys)
+      if (option == std::string(k.option) && args.integrator == k.integrator) {
+        j[k.key] = value;
+        return;
+      }
+    throw Error(fmt::format("{} does not apply to -i {}", option, args.integrator));
+  };
+  if (args.bounces >= 0) set("--bounces", args.bounces);
+  if (!args.bounce_mode.empty()) set("--bounce-mode", args.bounce_mode);
+  if (!args.shadow_rays.empty()) set("--shadow-rays", args.shadow_rays == "on");
+  Params params(j, "--param");
+  params.unlist({"max_bounces", "max_depth", "bounces", "shadows"});
+  return params;
 }
 
 // "out.exr" → "out.png": the tone-mapped preview written beside an HDR output.
@@ -71,7 +95,12 @@ void run_render(const RenderArgs& args) {
        {args.output, hdr_output && !args.no_preview ? preview_path(args.output) : std::string()})
     if (!path.empty() && std::filesystem::is_directory(path))
       throw Error(fmt::format("{}: is a folder, not an image file", path));
-  const ToneMapper mapper = tone_mapper_from_string(args.tonemap);
+  // Normals, albedo, depth and AO are values in [0, 1], not radiance: shown as they are.
+  const bool radiance = args.integrator != "normals" && args.integrator != "albedo" &&
+                        args.integrator != "depth" && args.integrator != "ao";
+  const ToneMapper mapper = tone_mapper_from_string(!args.tonemap.empty() ? args.tonemap
+                                                    : radiance            ? "aces"
+                                                                          : "clamp");
   if (!(args.exposure > 0.0f) || !std::isfinite(args.exposure))
     throw Error(fmt::format("--exposure {} must be a positive number", args.exposure));
 
@@ -99,6 +128,7 @@ void run_render(const RenderArgs& args) {
   const auto t2 = std::chrono::steady_clock::now();
   if (!writes_output()) return;  // rank 0 of the MPI job holds the image
   stop_if_interrupted();
+  const float exposure = display_exposure(image, args.exposure, args.fixed_exposure || !radiance);
 
   if (hdr_output) {
     write_image(args.output, image);
@@ -108,7 +138,7 @@ void run_render(const RenderArgs& args) {
       try {
         // Until the preview is written too, a second Ctrl-C takes the linear file with it.
         const StagingPath pending(args.output);
-        write_image(preview_path(args.output), tone_mapped(image, mapper, args.exposure));
+        write_image(preview_path(args.output), tone_mapped(image, mapper, exposure));
       } catch (...) {
         std::error_code ec;
         std::filesystem::remove(args.output, ec);
@@ -116,7 +146,7 @@ void run_render(const RenderArgs& args) {
       }
     }
   } else {
-    write_image(args.output, tone_mapped(image, mapper, args.exposure));
+    write_image(args.output, tone_mapped(image, mapper, exposure));
   }
   const double build_s = std::chrono::duration<double>(t1 - t0).count();
   const double render_s = std::chrono::duration<double>(t2 - t1).count();
@@ -134,7 +164,9 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("scene", args->scene,
                   "scene file (.obj, .gltf, .glb, .illum.json) or built-in name")
       ->required();
-  cmd->add_option("-i,--integrator", args->integrator, "integrator")->capture_default_str();
+  cmd->add_option("-i,--integrator", args->integrator, "integrator")
+      ->check(CLI::IsMember(Integrator::names()))
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->output,
                   "output image: .png .jpg (tone-mapped) or .exr .hdr (linear)")
       ->required();
@@ -155,15 +187,25 @@ void add_render_command(CLI::App& app) {
       ->transform(number(0.0, 1e7));
   cmd->add_option("-p,--param", args->params, "integrator parameter key=value (repeatable)");
   cmd->add_option("--bounces", args->bounces,
-                  "path: max bounces (a number) or a mode: all, direct, indirect1");
-  cmd->add_option("--shadows", args->shadows, "whitted: shadow rays on or off")
+                  "longest path in bounces (path: max_bounces, default 8; whitted: max_depth, "
+                  "default 5; photon, sppm: max_depth, default the scene's max_bounces)")
+      ->transform(number(0, 1024));
+  cmd->add_option("--bounce-mode", args->bounce_mode,
+                  "path: which light paths count (direct: one bounce only, indirect1: the "
+                  "second only)")
+      ->check(CLI::IsMember({"all", "direct", "indirect1"}));
+  cmd->add_option("--shadow-rays", args->shadow_rays, "whitted: trace shadow rays")
       ->check(CLI::IsMember({"on", "off"}));
-  cmd->add_option("--exposure", args->exposure, "exposure multiplier for 8-bit output")
+  cmd->add_option("--exposure", args->exposure,
+                  "8-bit output: a multiplier on the auto exposure (with --fixed-exposure, and "
+                  "for normals, albedo, depth and ao, the whole exposure)")
       ->transform(number(0.0f, 1e6f))
       ->capture_default_str();
+  cmd->add_flag("--fixed-exposure", args->fixed_exposure,
+                "8-bit output: no auto exposure, --exposure alone scales the radiance");
   cmd->add_option("--tonemap", args->tonemap,
-                  "tone mapper for 8-bit output: clamp, reinhard, aces, agx")
-      ->capture_default_str();
+                  "tone mapper for 8-bit output: clamp, reinhard, aces, agx (default aces; "
+                  "clamp for normals, albedo, depth and ao)");
   cmd->add_flag("--no-preview", args->no_preview,
                 "with .exr/.hdr output, do not also write a tone-mapped .png");
   add_load_options(cmd, &args->load);

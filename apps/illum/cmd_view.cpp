@@ -1,8 +1,8 @@
 // `illum view SCENE`: the real-time renderer in a window (GLFW + Vulkan swapchain) with
 // keyboard/mouse camera controls and an ImGui panel of every renderer parameter.
-// --frames N / --seconds S close it, --screenshot writes the last frame and --camera-out
-// the camera as left, as a scene file's "camera" object (tests, docs, scene authoring).
-// Without a window (no display), it says so and renders one frame headless instead.
+// --close-after-frames N / --close-after-seconds S close it, --screenshot writes the last frame and
+// --camera-out the camera as left, as a scene file's "camera" object (tests, docs, scene
+// authoring). Without a window (no display), it says so and renders one frame headless instead.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -62,9 +62,9 @@ void run_view(const ViewArgs& args) {
       throw Error(fmt::format("--camera-out {}: output folder '{}' does not exist", args.camera_out,
                               p.parent_path().string()));
   }
-  if (args.frames < 0) throw Error(fmt::format("--frames {} must be ≥ 0", args.frames));
+  if (args.frames < 0) throw Error(fmt::format("--close-after-frames {} must be ≥ 0", args.frames));
   if (!std::isfinite(args.seconds) || args.seconds < 0.0)
-    throw Error(fmt::format("--seconds {} must be a finite number ≥ 0", args.seconds));
+    throw Error(fmt::format("--close-after-seconds {} must be a finite number ≥ 0", args.seconds));
   Scene scene = load_scene(args.scene, args.load);
   apply_lighting_options(scene, args.lighting, "view", Unlit::kWarn, /*realtime=*/true);
   realtime::ViewerOptions viewer;
@@ -72,6 +72,8 @@ void run_view(const ViewArgs& args) {
   viewer.lightmap = baked.lightmap;
   viewer.prt = baked.prt;
   realtime::RenderSettings settings = realtime_settings(args.realtime, scene, false);
+  if (!baked.prt.empty() && !args.lighting.sun.empty())
+    show_sun_on_prt(&settings, args.lighting.sun);
   settings.width = args.width;
   settings.height = args.height;
   if (baked.any()) settings.enable("baked");
@@ -113,10 +115,11 @@ void add_view_command(CLI::App& app) {
   cmd->add_option("--fallback-output", args->fallback_output,
                   "image written when no window can be opened")
       ->capture_default_str();
-  cmd->add_option("--frames", args->frames, "close the window after N frames (0: run until closed)")
+  cmd->add_option("--close-after-frames", args->frames,
+                  "close the window after N frames (0: run until closed)")
       ->transform(number(0, INT_MAX))
       ->capture_default_str();
-  cmd->add_option("--seconds", args->seconds,
+  cmd->add_option("--close-after-seconds", args->seconds,
                   "close the window after S seconds (0: run until closed)")
       ->transform(number(0.0, 1e7))
       ->capture_default_str();

@@ -3,6 +3,7 @@
 // Handlers throw illum::Error for bad input; main() turns that into one line and exit 2.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,14 @@
 #include "illum/scene/load.h"
 
 namespace illum::cli {
+
+// The `illum` app with every subcommand and the app-level options (--log into *log_level,
+// --version); accepted before or after the subcommand. main() adds what needs the MPI job.
+std::unique_ptr<CLI::App> build_app(std::string* log_level);
+// After CLI11 refused `argument` as not expected (ExtrasError): "unknown option --resoluton
+// of illum bake; did you mean --resolution?" (the nearest option of the parsed subcommand
+// and the app), or "" for an argument that is not an option.
+std::string unknown_option_message(const CLI::App& app, const std::string& argument);
 
 void add_info_command(CLI::App& app);
 void add_render_command(CLI::App& app);

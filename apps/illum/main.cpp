@@ -17,72 +17,12 @@
 #include "job_role.h"
 #include "option_checks.h"
 
-namespace illum::cli {
-
-namespace {
-// `item` is the whole "key=value" for messages. A value that starts like a number but does
-// not fit a double (1e400) or a '[' that is not a JSON array is an error, not a string: the
-// reader would only say "must be a number" without the reason.
-nlohmann::json parse_value(const std::string& text, const std::string& item) {
-  if (text == "true") return true;
-  if (text == "false") return false;
-  if (!text.empty() && text.front() == '[')
-    return parse_json(text, fmt::format("--param '{}'", item));
-  size_t used = 0;
-  try {
-    const long long i = std::stoll(text, &used);
-    if (used == text.size()) return i;
-  } catch (const std::logic_error&) {
-    // not an integer, or too long for one: may still be a double
-  }
-  try {
-    const double d = std::stod(text, &used);
-    if (used == text.size()) return d;
-  } catch (const std::invalid_argument&) {
-  } catch (const std::out_of_range&) {
-    throw Error(fmt::format("--param '{}': {} is out of range for a number", item, text));
-  }
-  return text;
-}
-}  // namespace
-
-nlohmann::json key_values_to_json(const std::vector<std::string>& items) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& kv : items) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(fmt::format("--param '{}' must look like key=value", kv));
-    if (eq + 1 == kv.size()) throw Error(fmt::format("--param '{}' has no value after '='", kv));
-    if (j.contains(kv.substr(0, eq)))
-      throw Error(fmt::format("--param '{}' is given more than once", kv.substr(0, eq)));
-    j[kv.substr(0, eq)] = parse_value(kv.substr(eq + 1), kv);
-  }
-  return j;
-}
-
-void check_output_path(const std::string& path) {
-  image_format_from_path(path);  // throws for an unknown extension
-  check_writable_output(path);
-}
-
-void add_load_options(CLI::App* cmd, LoadOptions* options) {
-  cmd->add_flag("--allow-missing-textures", options->allow_missing_textures,
-                "a missing or unreadable texture, .mtl or environment map is one warning, and "
-                "the scene renders without it (default: an error)");
-}
-
-}  // namespace illum::cli
-
 int main(int argc, char** argv) {
-  CLI::App app{
-      "illum: global illumination for glTF/OBJ scenes — reference renderers, bakers, real-time"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "illum 0.1.0");
   std::string log_level = "warn";
+  const std::unique_ptr<CLI::App> app_owner = illum::cli::build_app(&log_level);
+  CLI::App& app = *app_owner;
   std::unique_ptr<illum::distributed::MpiJob> job;  // under mpirun only
   bool other_rank = false;  // a rank other than 0 of an MPI job: rank 0 says the warnings
-  app.add_option("--log", log_level, "log level")
-      ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
   app.parse_complete_callback([&] {
     using illum::log::Level;
     const Level level = log_level == "debug"   ? Level::kDebug
@@ -95,28 +35,6 @@ int main(int argc, char** argv) {
       illum::log::info("distributed: {} ranks, {} on this node, {} threads per rank by default",
                        job->ranks(), job->ranks_on_node(), job->threads_per_rank());
   });
-
-  illum::cli::add_info_command(app);
-  illum::cli::add_render_command(app);
-  illum::cli::add_bake_command(app);
-  illum::cli::add_relight_command(app);
-  illum::cli::add_export_command(app);
-#ifdef ILLUM_HAVE_FRAME_COMMAND
-  illum::cli::add_frame_command(app);
-#endif
-#ifdef ILLUM_HAVE_VIEW_COMMAND
-  illum::cli::add_view_command(app);
-#endif
-  illum::cli::refuse_empty_values(app);
-  // Only render and bake split their work across MPI ranks; the others would each write
-  // the same files at once.
-  for (CLI::App* command : app.get_subcommands({}))
-    if (command->get_name() != "render" && command->get_name() != "bake" &&
-        command->get_name() != "info")
-      command->preparse_callback([name = command->get_name()](size_t) {
-        illum::cli::refuse_with_several_ranks(true, "illum " + name,
-                                              "only render and bake are split across ranks");
-      });
 
   illum::install_interrupt_handler();
   // Under mpirun (and only there: see distributed/README.md) the process is one rank of a
@@ -167,6 +85,14 @@ int main(int argc, char** argv) {
       else
         message = "illum: interrupted; nothing was written";
     }
+  } catch (const CLI::ExtrasError& e) {
+    illum::log::discard();
+    code = 2;
+    const std::vector<std::string> extras = app.remaining();
+    const std::string unknown =
+        extras.empty() ? "" : illum::cli::unknown_option_message(app, extras.front());
+    message = unknown.empty() ? fmt::format("illum: error: {} (see 'illum --help')", e.what())
+                              : "illum: error: " + unknown;
   } catch (const CLI::ParseError& e) {
     illum::log::discard();
     code = 2;

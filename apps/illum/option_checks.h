@@ -62,12 +62,14 @@ class Number : public CLI::Validator {
   }
 
  private:
-  // "in [lo, hi]", or "at least lo" when hi is the type's largest value; a float bound of
-  // the smallest normal number reads "positive" (help shows no internal limits).
+  // "in [lo, hi]", or "at least lo" when hi is the type's largest value or a guard past any
+  // real value (one printed as 1e+30); a float bound of the smallest normal number reads
+  // "positive" (help shows no internal limits).
   static std::string range_text(T lo, T hi) {
     const bool positive = std::is_floating_point_v<T> && lo == std::numeric_limits<T>::min();
     const std::string low = positive ? "positive" : fmt::format("at least {}", lo);
-    if (hi == std::numeric_limits<T>::max()) return low;
+    if (hi == std::numeric_limits<T>::max() || fmt::format("{}", hi).find('e') != std::string::npos)
+      return low;
     return positive ? fmt::format("positive, at most {}", hi) : fmt::format("in [{}, {}]", lo, hi);
   }
 };
@@ -78,7 +80,7 @@ Number<T> number(T lo, T hi) {
 }
 
 // Every option that takes a value, of `app` and of each of its subcommands, refuses an
-// empty one (`--lightmap ""` would otherwise mean "none", `--seed ""` 0).
+// empty one (`--baked ""` would otherwise mean "none", `--seed ""` 0).
 inline void refuse_empty_values(CLI::App& app) {
   const CLI::Validator non_empty(
       [](std::string& text) { return text.empty() ? std::string("needs a value") : ""; }, "",

@@ -1,7 +1,12 @@
 #include "realtime_options.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "commands.h"
+#include "illum/core/params.h"
 #include "illum/realtime/technique_registry.h"
+#include "illum/scene/lighting_overrides.h"
 #include "option_checks.h"
 
 namespace illum::cli {
@@ -15,19 +20,24 @@ void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
   cmd->add_option("--shadows", args->shadows, "shadow method")
       ->check(CLI::IsMember(realtime::technique_names(TechniqueKind::kShadowMethod)))
       ->capture_default_str();
+  const std::vector<std::string> add_ons = realtime::technique_names(TechniqueKind::kAddOn);
   cmd->add_option("--enable", args->enable,
                   "switch add-ons on (NAME[,NAME], repeatable; `illum frame --list` lists them)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(CLI::IsMember(add_ons));
   cmd->add_option("--disable", args->disable, "switch add-ons off (NAME[,NAME], repeatable)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(CLI::IsMember(add_ons));
   cmd->add_option("--tonemap", args->tonemap, "tone mapper: clamp, reinhard, aces, agx")
       ->check(CLI::IsMember(tonemap->param("operator")->choices))
       ->capture_default_str();
-  cmd->add_option("--exposure", args->exposure, "exposure multiplier")
+  cmd->add_option("--exposure", args->exposure,
+                  "a multiplier on the auto exposure (with --fixed-exposure, the whole exposure)")
       ->transform(number(0.0f, 1e6f))
       ->capture_default_str();
   cmd->add_flag("--fixed-exposure", args->fixed_exposure,
-                "no auto-exposure (same as --disable luminance)");
+                "no auto exposure, --exposure alone scales the radiance (same as --disable "
+                "luminance)");
   cmd->add_option("-p,--param", args->params,
                   "technique parameter NAME.key=value (repeatable; `illum frame --list` lists "
                   "them, with the short keys also accepted, e.g. pcf_taps=8, "
@@ -35,16 +45,59 @@ void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
 }
 
 void add_baked_option(CLI::App* cmd, std::vector<std::string>* folders) {
-  cmd->add_option("--baked,--lightmap", *folders,
+  cmd->add_option("--baked", *folders,
                   "show a folder written by `illum bake` — light-map or PRT, told by its "
                   "manifest; repeatable, one of each kind (replaces the lights it holds; PRT is "
-                  "lit by the baked.sun_* parameters)")
+                  "lit by --sun)")
       ->allow_extra_args(false);
+}
+
+namespace {
+
+// Every key `-p` takes: NAME.key, the short aliases and the add-ons' switch keys.
+std::vector<std::string> param_keys() {
+  std::vector<std::string> keys;
+  for (const realtime::TechniqueDecl& t : realtime::technique_registry()) {
+    if (!t.switch_alias.empty()) keys.push_back(t.switch_alias);
+    for (const realtime::ParamDecl& d : t.params) {
+      keys.push_back(t.name + "." + d.key);
+      if (!d.alias.empty()) keys.push_back(d.alias);
+    }
+  }
+  return keys;
+}
+
+// An unknown key is refused here with the nearest known one; the renderer's own message
+// only points at the listing.
+void check_param_keys(const nlohmann::json& params) {
+  const std::vector<std::string> keys = param_keys();
+  for (const auto& [key, value] : params.items()) {
+    if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+    const std::string near = nearest_name(key, keys);
+    throw Error(fmt::format("-p {}: unknown parameter{} (`illum frame --list` lists all {})", key,
+                            near.empty() ? "" : fmt::format("; did you mean {}?", near),
+                            keys.size()));
+  }
+}
+
+}  // namespace
+
+void show_sun_on_prt(realtime::RenderSettings* settings, const std::string& sun) {
+  Scene light;
+  add_sun(light, sun);  // the same X,Y,Z[,E] as every command, checked there
+  const vec3 towards = -normalize(light.lights.back().direction);
+  const float to_degrees = 180.0f / kPi;
+  settings->set("baked.sun_elevation", std::asin(std::clamp(towards.y, -1.0f, 1.0f)) * to_degrees);
+  settings->set("baked.sun_azimuth", std::atan2(towards.x, towards.z) * to_degrees);
+  settings->set("baked.sun_irradiance", light.lights.back().irradiance.x);
 }
 
 realtime::RenderSettings realtime_settings(const RealtimeArgs& args, const Scene& scene,
                                            bool timing) {
   nlohmann::json j = key_values_to_json(args.params);
+  refuse_params_of_options(j, {{"baked.sun_azimuth", "--sun X,Y,Z[,E]"},
+                               {"baked.sun_elevation", "--sun X,Y,Z[,E]"},
+                               {"baked.sun_irradiance", "--sun X,Y,Z[,E]"}});
   refuse_params_of_options(j, {{"technique", "--technique"},
                                {"shadows", "--shadows"},
                                {"tone_mapper", "--tonemap"},
@@ -53,6 +106,7 @@ realtime::RenderSettings realtime_settings(const RealtimeArgs& args, const Scene
                                {"height", "--height"},
                                {"exposure", "--exposure"},
                                {"tonemap.exposure", "--exposure"}});
+  check_param_keys(j);
   realtime::RenderSettings s;
   s.pipeline = args.technique;
   s.shadows = args.shadows;

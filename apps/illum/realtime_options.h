@@ -25,9 +25,11 @@ struct RealtimeArgs {
 };
 
 void add_realtime_options(CLI::App* cmd, RealtimeArgs* args);
-// --baked DIR (repeatable; --lightmap is the same option): bake folders to show
-// (baked_display.h).
+// --baked DIR (repeatable): bake folders to show (baked_display.h).
 void add_baked_option(CLI::App* cmd, std::vector<std::string>* folders);
+// A shown PRT folder is relit by the `baked` add-on's sun, not by scene lights: `--sun
+// X,Y,Z[,E]` sets that sun (baked.sun_azimuth/elevation/irradiance, which `-p` refuses).
+void show_sun_on_prt(realtime::RenderSettings* settings, const std::string& sun);
 
 // The settings the options describe, for `scene` (lighting.ambient defaults to its
 // settings.ambient). With `timing` (illum frame --frames N > 1) the shadow methods

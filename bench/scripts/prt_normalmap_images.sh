@@ -64,8 +64,8 @@ for maps in on off; do
   "$illum" bake "$scene" --kind prt --mode shadowed --bands 6 --resolution 256 --spp 256 \
     --seed 1 --threads 2 -p normal_maps=$flag -o "$out/prt_$maps"
   # Sun A grazes from +x, sun B from −z (the far side); both 20–27° high.
-  "$illum" relight "$scene" --prt "$out/prt_$maps" --sun=-1,-0.36,0 --irradiance 3 --threads 2 \
+  "$illum" relight "$scene" --baked "$out/prt_$maps" --sun=-1,-0.36,0,3 --threads 2 \
     -o "$out/prt_normalmap_sun_a_$maps.png"
-  "$illum" relight "$scene" --prt "$out/prt_$maps" --sun=0,-0.5,1 --irradiance 3 --threads 2 \
+  "$illum" relight "$scene" --baked "$out/prt_$maps" --sun=0,-0.5,1,3 --threads 2 \
     -o "$out/prt_normalmap_sun_b_$maps.png"
 done

@@ -35,7 +35,7 @@ for pipeline in forward deferred visibility; do
     --json "$out/$pipeline-none.json" > "$out/$pipeline-none.txt"
   for lookup in texels vertices vq; do
     "$illum" frame "$scene" "${size[@]}" -t "$pipeline" --shadows none --baked "$prt" \
-      -p baked.prt_lookup="$lookup" -p baked.sun_azimuth=30 -p baked.sun_elevation=60 \
+      -p baked.prt_lookup="$lookup" --sun -0.25,-0.866,-0.433 \
       --json "$out/$pipeline-$lookup.json" > "$out/$pipeline-$lookup.txt"
   done
 done

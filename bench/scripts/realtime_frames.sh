@@ -49,7 +49,7 @@ run deferred-volume --technique deferred --shadows volume
 run deferred-map-cached --technique deferred --shadows map -p shadow_update_period=0
 run deferred-map-light-volumes --technique deferred --shadows map -p deferred_lighting=volumes
 if [ -n "${LIGHTMAP:-}" ]; then
-  run deferred-map-lightmap --technique deferred --shadows map --lightmap "$LIGHTMAP"
+  run deferred-map-lightmap --technique deferred --shadows map --baked "$LIGHTMAP"
 fi
 
 printf '%-28s %12s %12s  %s\n' run "GPU ms" "wall ms" "passes (median GPU ms)"

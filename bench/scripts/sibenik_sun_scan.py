@@ -39,8 +39,9 @@ for el in range(15, 90, 10):
                     ' "camera": {"position": [22, 4, 0], "look_at": [-10, 5, 0], "up": [0, 1, 0],'
                     ' "fov_y_deg": 60}, "settings": {"width": 96, "height": 64, "spp": 4,'
                     ' "max_bounces": 1}}' % (obj, ",".join(d)))
-        subprocess.run([illum, "render", scene, "-o", png, "--bounces", "direct", "--threads", "1",
-                        "--exposure", "0.3"], check=True, capture_output=True)
+        subprocess.run([illum, "render", scene, "-o", png, "--bounce-mode", "direct", "--threads", "1",
+                        "--tonemap", "clamp", "--fixed-exposure", "--exposure", "0.3"],
+                       check=True, capture_output=True)
         ppm = subprocess.run(["convert", png, "ppm:-"], check=True, capture_output=True).stdout
         px = ppm.split(b"\n", 3)[3]
         lit = sum(1 for i in range(0, len(px), 3) if px[i] > 20) / (len(px) // 3)

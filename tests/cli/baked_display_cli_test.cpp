@@ -48,11 +48,19 @@ void write_doc_picture(const illum::Image& frame, const illum::Image& relit,
   illum::write_image(std::string(folder) + "/" + name, out);
 }
 
-// The sun of -p baked.sun_azimuth/sun_elevation (techniques/baked.cpp): towards
-// (cos e sin a, sin e, cos e cos a); relight's --sun is the direction the light travels.
+// The PRT sun at azimuth a, elevation e (techniques/baked.cpp): towards
+// (cos e sin a, sin e, cos e cos a); --sun is the direction the light travels.
 glm::dvec3 sun_towards(double azimuth_deg, double elevation_deg) {
   const double a = azimuth_deg * M_PI / 180.0, e = elevation_deg * M_PI / 180.0;
   return {std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)};
+}
+
+// "--sun X,Y,Z,E" for that sun with irradiance E.
+std::string sun_option(double azimuth_deg, double elevation_deg, double irradiance) {
+  const glm::dvec3 t = sun_towards(azimuth_deg, elevation_deg);
+  char sun[128];
+  std::snprintf(sun, sizeof(sun), "--sun %.9g,%.9g,%.9g,%.9g", -t.x, -t.y, -t.z, irradiance);
+  return sun;
 }
 
 // The points of an ILLUMPRT block (baked/prt_file.h): header, then points × channels f32.
@@ -116,7 +124,7 @@ class BakedDisplayCli : public CliTest {
                std::to_string(kSize) + " " + extra + " -o " + out.string());
   }
   Result view(const std::string& scene, const std::string& baked) {
-    return run("view " + scene + " " + baked + " --frames 1 --fallback-output " +
+    return run("view " + scene + " " + baked + " --close-after-frames 1 --fallback-output " +
                (dir_ / "view.png").string());
   }
   static std::string recorded_hash(const fs::path& manifest) {
@@ -153,9 +161,7 @@ class BakedDisplayCli : public CliTest {
     const double u = std::ldexp(1.0, -11);
 
     const fs::path out = dir_ / ("frame-" + pipeline + "-" + lookup + ".exr");
-    const std::string sun = " -p baked.sun_azimuth=" + std::to_string(azimuth) +
-                            " -p baked.sun_elevation=" + std::to_string(elevation) +
-                            " -p baked.sun_irradiance=" + std::to_string(irradiance) +
+    const std::string sun = " " + sun_option(azimuth, elevation, irradiance) +
                             " -p baked.prt_lookup=" + lookup + " -t " + pipeline;
     const Result r = frame(scene, "--baked " + folder.string(), out, sun);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -220,15 +226,12 @@ class BakedDisplayCli : public CliTest {
   void check_folder(const std::string& scene, const fs::path& folder, int bands, bool vq,
                     double azimuth, double elevation) {
     ASSERT_TRUE(fs::exists(folder / "prt.json"));
-    const glm::dvec3 towards = sun_towards(azimuth, elevation);
-    char sun[96];
-    std::snprintf(sun, sizeof(sun), "--sun %.9g,%.9g,%.9g", -towards.x, -towards.y, -towards.z);
+    const std::string sun = sun_option(azimuth, elevation, 4.0);
     // The pixels to compare: those a surface covers (the frame under a constant ambient with
     // no bake: every albedo is > 0, the background stays black — relight shows the
     // band-limited sky there) minus the emitters (the frame with the sun off: emission only).
     const fs::path emission = dir_ / "emission.exr", covered = dir_ / "covered.exr";
-    const Result e =
-        frame(scene, "--baked " + folder.string(), emission, "-p baked.sun_irradiance=0");
+    const Result e = frame(scene, "--baked " + folder.string(), emission, "--sun 0,-1,0,0");
     ASSERT_EQ(e.exit_code, 0) << e.err;
     const Result c = frame(scene, "", covered, "--shadows none -p lighting.ambient=[1,1,1]");
     ASSERT_EQ(c.exit_code, 0) << c.err;
@@ -236,10 +239,9 @@ class BakedDisplayCli : public CliTest {
     if (vq) lookups.push_back("vq");
     for (const std::string& lookup : lookups) {
       const fs::path relit = dir_ / ("relit-" + lookup + ".exr");
-      const Result r =
-          run("relight " + scene + " --prt " + folder.string() + " " + sun +
-              " --irradiance 4 --lookup " + lookup + " --width " + std::to_string(kSize) +
-              " --height " + std::to_string(kSize) + " --spp 1 -o " + relit.string());
+      const Result r = run("relight " + scene + " --baked " + folder.string() + " " + sun +
+                           " --lookup " + lookup + " --width " + std::to_string(kSize) +
+                           " --height " + std::to_string(kSize) + " --spp 1 -o " + relit.string());
       ASSERT_EQ(r.exit_code, 0) << r.err;
       for (const char* pipeline : {"forward", "deferred", "visibility"})
         expect_frame_matches_relight(scene, folder, bands, lookup, pipeline, relit, emission,
@@ -276,14 +278,14 @@ TEST_F(BakedDisplayCli, PrtVertexTransferFollowsInstancesThatShareAMesh) {
   check_folder(scene, folder, 3, false, 20.0, 40.0);  // the quads face +z, as the camera
 }
 
-// The sun parameters change the frame, auto is the texel lookup, `illum view` shows the
-// folder, and --lightmap is --baked for a light-map folder.
-TEST_F(BakedDisplayCli, SunParametersMoveTheLightAndLightmapIsAnAlias) {
+// --sun moves the PRT sun, auto is the texel lookup, `illum view` shows the folder and
+// takes --sun too, and --baked takes a light-map folder as well.
+TEST_F(BakedDisplayCli, SunMovesTheLightAndBakedTakesEveryKind) {
   const fs::path folder = shared_bake(3, true);
   const fs::path a = dir_ / "a.exr", b = dir_ / "b.exr";
-  ASSERT_EQ(frame("cornell", "--baked " + folder.string(), a, "-p baked.sun_azimuth=160").exit_code,
+  ASSERT_EQ(frame("cornell", "--baked " + folder.string(), a, sun_option(160, 45, M_PI)).exit_code,
             0);
-  ASSERT_EQ(frame("cornell", "--baked " + folder.string(), b, "-p baked.sun_azimuth=200").exit_code,
+  ASSERT_EQ(frame("cornell", "--baked " + folder.string(), b, sun_option(200, 45, M_PI)).exit_code,
             0);
   const illum::Image ia = illum::read_image(a.string(), false);
   const illum::Image ib = illum::read_image(b.string(), false);
@@ -294,20 +296,19 @@ TEST_F(BakedDisplayCli, SunParametersMoveTheLightAndLightmapIsAnAlias) {
   // prt_lookup=auto is texels when the folder has them: the same bytes.
   const fs::path t = dir_ / "t.exr";
   ASSERT_EQ(frame("cornell", "--baked " + folder.string(), t,
-                  "-p baked.sun_azimuth=160 -p baked.prt_lookup=texels")
+                  sun_option(160, 45, M_PI) + " -p baked.prt_lookup=texels")
                 .exit_code,
             0);
   EXPECT_TRUE(slurp(t) == slurp(a)) << "texels and auto differ";
   EXPECT_FALSE(slurp(t).empty());
 
   // The viewer takes the folder and the sun parameters too (a window, or its headless frame).
-  const Result shown = view("cornell", "--baked " + folder.string() + " -p baked.sun_elevation=10");
+  const Result shown =
+      view("cornell", "--baked " + folder.string() + " " + sun_option(0, 10, M_PI));
   EXPECT_EQ(shown.exit_code, 0) << shown.err;
 
   const fs::path lm = dir_ / "lm";
   ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 --seed 1 -o " + lm.string()).exit_code, 0);
-  const Result alias = frame("cornell", "--lightmap " + lm.string(), dir_ / "lm.png");
-  EXPECT_EQ(alias.exit_code, 0) << alias.err;
   const Result baked = frame("cornell", "--baked " + lm.string(), dir_ / "lm2.png");
   EXPECT_EQ(baked.exit_code, 0) << baked.err;
 }
@@ -348,7 +349,7 @@ TEST_F(BakedDisplayCli, FoldersBakedForAnotherSceneAreRefused) {
           << r.err;
     }
   }
-  const Result relit = run("relight " + moved + " --prt " + prt.string() + " --sun 0,-1,1 -o " +
+  const Result relit = run("relight " + moved + " --baked " + prt.string() + " --sun 0,-1,1 -o " +
                            (dir_ / "relit.png").string());
   expect_bad_input(relit, prt.string());
   EXPECT_NE(relit.err.find("scene hash " + recorded_hash(prt / "prt.json") + " recorded"),
@@ -391,7 +392,7 @@ TEST_F(BakedDisplayCli, BadFoldersAreRefused) {
   refused("--baked " + prt.string() + " --baked " + prt.string(), "a second PRT folder");
   const fs::path lm = dir_ / "lm";
   ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 --seed 1 -o " + lm.string()).exit_code, 0);
-  refused("--lightmap " + lm.string() + " --baked " + lm.string(), "a second light-map folder");
+  refused("--baked " + lm.string() + " --baked " + lm.string(), "a second light-map folder");
   refused("--baked " + lm.string() + " --baked " + prt.string(), "each puts its own atlas on uv1");
   fs::copy_file(lm / "lightmap.json", dir_ / "both.json");
   fs::copy(prt, dir_ / "both", fs::copy_options::recursive);

@@ -23,12 +23,12 @@ class BakeIdentity : public CliTest {
                folder.string());
   }
   Result frame(const std::string& scene, const fs::path& folder) {
-    return run("frame " + scene + " --lightmap " + folder.string() + " --width 16 --height 16 -o " +
+    return run("frame " + scene + " --baked " + folder.string() + " --width 16 --height 16 -o " +
                (dir_ / "frame.png").string());
   }
   Result view(const std::string& scene, const fs::path& folder) {
-    return run("view " + scene + " --lightmap " + folder.string() +
-               " --frames 1 --fallback-output " + (dir_ / "view.png").string());
+    return run("view " + scene + " --baked " + folder.string() +
+               " --close-after-frames 1 --fallback-output " + (dir_ / "view.png").string());
   }
   std::string recorded_hash(const fs::path& folder) {
     std::smatch m;

@@ -98,7 +98,7 @@ class DocsClaims : public CliTest {
   }
 
   // Runs each documented command in one working folder, in page order (a bake feeds the
-  // `--lightmap` of a later frame), shrunk so the page costs a few seconds: sizes, samples,
+  // `--baked` of a later frame), shrunk so the page costs a few seconds: sizes, samples,
   // frames and photon counts are capped, and `sibenik` becomes `cornell` (loading Sibenik is
   // SharedScenes.SibenikBuiltin's; what is checked here is that each option exists, is
   // accepted together with the others and writes what the page says). A command fails the
@@ -295,7 +295,7 @@ TEST_F(DocsClaims, ImagesAreLimitedTo16384PixelsASide) {
   expect_bad_input(big_atlas, "--resolution");
 #ifdef ILLUM_HAVE_GPU
   expect_bad_input(run("frame cornell --width 16385 --height 16 -o " + png.string()), "width");
-  expect_bad_input(run("view cornell --height 16385 --frames 1"), "height");
+  expect_bad_input(run("view cornell --height 16385 --close-after-frames 1"), "height");
 #endif
   EXPECT_FALSE(fs::exists(png));
   EXPECT_FALSE(fs::exists(dir_ / "lm"));

@@ -178,7 +178,7 @@ TEST_F(CliFileErrors, EveryCommandThatLoadsASceneTakesAllowMissingTextures) {
   for (const std::string command : {"frame", "view"}) {
     SCOPED_TRACE(command);
     const auto r =
-        run(command + " cornell --allow-missing-textures --lightmap " + (dir_ / "none").string() +
+        run(command + " cornell --allow-missing-textures --baked " + (dir_ / "none").string() +
             (command == "frame" ? " -o " + frame.string() : ""));
     expect_bad_input(r, "none");
     EXPECT_EQ(r.err.find("allow-missing-textures"), std::string::npos) << r.err;
@@ -195,7 +195,7 @@ TEST_F(CliFileErrors, FrameRefusesBadLightmapFolders) {
   ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 -o " + folder.string()).exit_code, 0);
   const std::string manifest = slurp(folder / "lightmap.json");
   const fs::path frame = dir_ / "frame.png";
-  const std::string cmd = "frame cornell --lightmap " + folder.string() + " -o " + frame.string();
+  const std::string cmd = "frame cornell --baked " + folder.string() + " -o " + frame.string();
   auto replace = [&](const std::string& from, const std::string& to) {
     std::string m = manifest;
     const size_t at = m.find(from);

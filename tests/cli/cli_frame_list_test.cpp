@@ -26,7 +26,7 @@ class CliFrameListTest : public CliTest {
     return "frame cornell --width 8 --height 8 -o " + (dir_ / "f.png").string() + " " + extra;
   }
   std::string view(const std::string& extra) {
-    return "view cornell --width 8 --height 8 --frames 1 --fallback-output " +
+    return "view cornell --width 8 --height 8 --close-after-frames 1 --fallback-output " +
            (dir_ / "v.png").string() + " " + extra;
   }
   // Bad input: exit 2, one line naming `needle`, no image written.
@@ -145,7 +145,7 @@ TEST_F(CliFrameListTest, ListAsJsonMatchesTheRegistry) {
   EXPECT_EQ(param("map.pcf_taps")["max"], 64);
   EXPECT_EQ(param("map.pcf_taps")["change"], "per-frame");
   EXPECT_EQ(param("map.pcf_taps")["alias"], "pcf_taps");
-  EXPECT_EQ(param("tonemap.key")["default"], 0.18);
+  EXPECT_EQ(param("tonemap.exposure")["default"], 1.0);
   EXPECT_EQ(param("lighting.ambient")["default"], nlohmann::json::array({0.0, 0.0, 0.0}));
   EXPECT_EQ(param("deferred.lighting")["values"], nlohmann::json::array({"compute", "volumes"}));
   EXPECT_EQ(param("deferred.lighting")["change"], "structural");
@@ -211,7 +211,7 @@ TEST_F(CliFrameListTest, AddOnsSwitchAndShortKeysStillWork) {
   EXPECT_FALSE(contains(passes("-p auto_exposure=false"), "luminance"));
   const std::vector<std::string> deferred = passes(
       "--technique deferred -p deferred_lighting=volumes -p pcf_taps=4 -p "
-      "shadow_resolution=64 -p half_lambert=true -p key=0.3 -p vsm_tau=0.5");
+      "shadow_resolution=64 -p half_lambert=true -p vsm_tau=0.5");
   EXPECT_TRUE(contains(deferred, "gbuffer"));
   EXPECT_TRUE(contains(deferred, "lighting"));
   EXPECT_TRUE(contains(passes("--shadows volume -p silhouettes=cpu -p volume_back_faces=true"),

@@ -82,7 +82,7 @@ class CliOptionsTest : public CliTest {
   void SetUp() override {
     CliTest::SetUp();
     // `illum view` must not open a window here: it renders headless, or a wrongly accepted
-    // `--frames ''` (0: until closed) would wait for a person.
+    // `--close-after-frames ''` (0: until closed) would wait for a person.
     ::unsetenv("DISPLAY");
     ::unsetenv("WAYLAND_DISPLAY");
   }
@@ -99,16 +99,19 @@ class CliOptionsTest : public CliTest {
         {"bake", {{"--resolution", "32"}, {"--spp", "1"}, {"-o", (dir_ / "lightmap").string()}}},
         {"frame", {{"--width", "8"}, {"--height", "8"}, {"-o", out}}},
         {"view",
-         {{"--width", "8"}, {"--height", "8"}, {"--frames", "1"}, {"--fallback-output", out}}},
+         {{"--width", "8"},
+          {"--height", "8"},
+          {"--close-after-frames", "1"},
+          {"--fallback-output", out}}},
         {"relight",
-         {{"--prt", (dir_ / "prt").string()},
+         {{"--baked", (dir_ / "prt").string()},
           {"--sun", "0,-1,0"},
           {"--width", "8"},
           {"--height", "8"},
           {"--spp", "1"},
           {"-o", out}}},
         {"export",
-         {{"--lightmap", (dir_ / "lightmap").string()}, {"-o", (dir_ / "out.glb").string()}}},
+         {{"--baked", (dir_ / "lightmap").string()}, {"-o", (dir_ / "out.glb").string()}}},
     };
     const auto it = base.find(sub);
     if (it == base.end()) {
@@ -310,7 +313,7 @@ TEST_F(CliOptionsTest, RealtimeRendererRefusesBadSceneValues) {
           .string();
   const std::string frame = " --width 8 --height 8 -o " + (dir_ / "f.png").string();
   const std::string view =
-      " --width 8 --height 8 --frames 1 --fallback-output " + (dir_ / "v.png").string();
+      " --width 8 --height 8 --close-after-frames 1 --fallback-output " + (dir_ / "v.png").string();
   // The loader refuses the overflowed position and the negative flux before the renderer
   // sees them (scene_validation); the zero-area emitter only the renderer can refuse.
   for (const std::string& options : {frame, view}) {

@@ -141,7 +141,7 @@ TEST_F(CliTest, InterruptStopsCleanlyWithoutOutput) {
 }
 
 // `illum bake` writes a complete light-map folder and nothing else; `illum frame
-// --lightmap` shows it.
+// --baked` shows it.
 TEST_F(CliTest, BakeWritesALightmapFolderThatFrameShows) {
   const fs::path folder = dir_ / "cornell-lm";
   const auto r = run("bake cornell --resolution 32 --spp 2 --basis sh -o " + folder.string());
@@ -161,7 +161,7 @@ TEST_F(CliTest, BakeWritesALightmapFolderThatFrameShows) {
   EXPECT_FALSE(fs::exists(folder / "layer1.exr")) << "the plain set has one layer";
 #ifdef ILLUM_HAVE_GPU
   const fs::path frame = dir_ / "frame.png";
-  const auto f = run("frame cornell --width 32 --height 32 --lightmap " + folder.string() + " -o " +
+  const auto f = run("frame cornell --width 32 --height 32 --baked " + folder.string() + " -o " +
                      frame.string());
   ASSERT_EQ(f.exit_code, 0) << f.err;
   EXPECT_TRUE(fs::exists(frame));
@@ -190,23 +190,23 @@ TEST_F(CliTest, BakeRefusesBadOptionsAndOutputs) {
 TEST_F(CliTest, FrameRefusesBadLightmapFolders) {
   const fs::path frame = dir_ / "frame.png";
   expect_bad_input(
-      run("frame cornell --lightmap " + (dir_ / "none").string() + " -o " + frame.string()),
+      run("frame cornell --baked " + (dir_ / "none").string() + " -o " + frame.string()),
       "does not exist");
   const fs::path folder = dir_ / "lm";
   ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 -o " + folder.string()).exit_code, 0);
   // Baked for another scene.
   write("tri.obj", kTriangleObj);
-  expect_bad_input(run("frame " + (dir_ / "tri.obj").string() + " --lightmap " + folder.string() +
+  expect_bad_input(run("frame " + (dir_ / "tri.obj").string() + " --baked " + folder.string() +
                        " -o " + frame.string()),
                    "does not fit");
   // A malformed manifest, then a missing layer.
   const std::string manifest = slurp(folder / "lightmap.json");
   write("lm/lightmap.json", manifest.substr(0, manifest.size() / 2));
-  expect_bad_input(run("frame cornell --lightmap " + folder.string() + " -o " + frame.string()),
+  expect_bad_input(run("frame cornell --baked " + folder.string() + " -o " + frame.string()),
                    "malformed");
   write("lm/lightmap.json", manifest);
   fs::remove(folder / "layer0.exr");
-  expect_bad_input(run("frame cornell --lightmap " + folder.string() + " -o " + frame.string()),
+  expect_bad_input(run("frame cornell --baked " + folder.string() + " -o " + frame.string()),
                    "layer0.exr");
   EXPECT_FALSE(fs::exists(frame));
 }

@@ -1,4 +1,4 @@
-// `illum export SCENE --lightmap DIR -o OUT.glb`: a baked Cornell
+// `illum export SCENE --baked DIR -o OUT.glb`: a baked Cornell
 // box exports to a .glb the project's own loader reads back, with OUT.lightmap.exr beside it;
 // bad input — a folder baked for another scene, a missing or malformed folder, an output in
 // a missing folder or not named .glb, an unknown --tone — is one line, exit 2, and nothing
@@ -22,7 +22,7 @@ class ExportCli : public CliTest {
   }
   Result do_export(const std::string& scene, const fs::path& folder, const fs::path& out,
                    const std::string& extra = "") {
-    return run("export " + scene + " --lightmap " + folder.string() + " -o " + out.string() + " " +
+    return run("export " + scene + " --baked " + folder.string() + " -o " + out.string() + " " +
                extra);
   }
   // Only the entries in `allowed` are in the test's folder: no output, no temporary file.

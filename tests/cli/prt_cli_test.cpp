@@ -21,7 +21,7 @@ class PrtCli : public CliTest {
                " -o " + folder.string());
   }
   Result relight(const std::string& scene, const fs::path& folder, const std::string& light) {
-    return run("relight " + scene + " --prt " + folder.string() + " " + light +
+    return run("relight " + scene + " --baked " + folder.string() + " " + light +
                " --width 16 --height 16 --spp 1 -o " + out().string());
   }
   fs::path out() const { return dir_ / "relit.png"; }
@@ -34,12 +34,12 @@ TEST_F(PrtCli, BakesAndRelightsUnderASunAndAnEnvironment) {
   for (const char* file : {"prt.json", "atlas.bin", "texels.bin", "vertices.bin", "preview.png"})
     EXPECT_TRUE(fs::exists(prt / file)) << file;
   EXPECT_NE(slurp(prt / "prt.json").find("\"format\": \"illum-prt\""), std::string::npos);
-  Result r = relight("cornell", prt, "--sun 0.3,-1,-0.5 --irradiance 2");
+  Result r = relight("cornell", prt, "--sun 0.3,-1,-0.5,2");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out()));
   fs::remove(out());
   r = relight("cornell", prt,
-              "--env " + std::string(ILLUM_SHARED_SCENES) +
+              "--sky " + std::string(ILLUM_SHARED_SCENES) +
                   "/envmaps/venice_sunset_1k.hdr --rotate 90 --lookup vertices");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out()));
@@ -109,13 +109,13 @@ TEST_F(PrtCli, RefusesBadLights) {
   expect_bad_input(relight("cornell", prt, "--sun 0,0,0"), "--sun");
   expect_bad_input(relight("cornell", prt, "--sun nan,-1,0"), "--sun");
   expect_bad_input(relight("cornell", prt, "--sun 1,2"), "--sun");
-  expect_bad_input(relight("cornell", prt, "--sun 0,-1,0 --irradiance nan"), "--irradiance");
+  expect_bad_input(relight("cornell", prt, "--sun 0,-1,0,nan"), "--sun");
   expect_bad_input(relight("cornell", prt, ""), "--sun");
   expect_bad_input(relight("cornell", prt,
-                           "--sun 0,-1,0 --env " + std::string(ILLUM_SHARED_SCENES) +
+                           "--sun 0,-1,0 --sky " + std::string(ILLUM_SHARED_SCENES) +
                                "/envmaps/venice_sunset_1k.hdr"),
                    "exactly one light");
-  expect_bad_input(relight("cornell", prt, "--env " + (dir_ / "missing.hdr").string()),
+  expect_bad_input(relight("cornell", prt, "--sky " + (dir_ / "missing.hdr").string()),
                    "missing.hdr");
   EXPECT_FALSE(fs::exists(out()));
 }

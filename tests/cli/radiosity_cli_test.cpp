@@ -37,7 +37,7 @@ TEST_F(RadiosityCli, BakesTheCornellBox) {
 TEST_F(RadiosityCli, BadMethodThresholdAndTimeAreRefused) {
   const fs::path out = dir_ / "lm";
   const std::string bake = "bake cornell --resolution 24 -o " + out.string() + " ";
-  expect_bad_input(run(bake + "--method nonsense"), "--method must be path or radiosity");
+  expect_bad_input(run(bake + "--method nonsense"), "--method: nonsense not in {path,radiosity}");
   expect_bad_input(run(bake + "--method radiosity --threshold -1"), "--threshold");
   expect_bad_input(run(bake + "--method radiosity --threshold nan"), "--threshold");
   expect_bad_input(run(bake + "--method radiosity --threshold 0"), "threshold");

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdlib>
+#include <thread>
+
 #include <algorithm>
 #include <string>
 
@@ -45,7 +49,7 @@ TEST(Progress, EnabledBarDrawsOnceFinished) {
   // on an enabled bar draw it, and finish() ends it with exactly one newline.
   testing::internal::CaptureStderr();
   {
-    Progress progress("test", 10, /*enabled=*/true);
+    Progress progress("test", 10, /*enabled=*/true, Progress::Style::kBar);
     for (int i = 0; i < 10; ++i) progress.advance();
     EXPECT_EQ(progress.done(), 10);
     progress.finish();
@@ -56,6 +60,35 @@ TEST(Progress, EnabledBarDrawsOnceFinished) {
   EXPECT_NE(out.find("100.0%"), std::string::npos) << out;
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
   EXPECT_EQ(out.back(), '\n');
+}
+
+// Where stderr is a file (the capture here, a batch job's log): whole lines at the interval,
+// no carriage return, and an end line once any was printed; quick work prints nothing.
+TEST(Progress, LinesWhenStderrIsNotATerminal) {
+  ::setenv("ILLUM_PROGRESS_INTERVAL", "0.05", 1);
+  testing::internal::CaptureStderr();
+  {
+    Progress progress("bake", 4);  // kAuto: the capture is not a terminal
+    progress.advance();
+    std::this_thread::sleep_for(std::chrono::milliseconds(80));
+    progress.advance();  // 50%, past the interval: a line
+    progress.advance();  // 75%, within it: none
+    progress.advance();
+  }
+  const std::string out = testing::internal::GetCapturedStderr();
+  testing::internal::CaptureStderr();
+  {
+    Progress quick("quick", 4);
+    for (int i = 0; i < 4; ++i) quick.advance();
+  }
+  const std::string quiet = testing::internal::GetCapturedStderr();
+  ::unsetenv("ILLUM_PROGRESS_INTERVAL");
+  EXPECT_EQ(out.find('\r'), std::string::npos) << out;
+  EXPECT_EQ(out.rfind("bake: 50% (", 0), 0u) << out;
+  EXPECT_EQ(out.find("75%"), std::string::npos) << out;
+  EXPECT_NE(out.find("\nbake: 100% in "), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
+  EXPECT_EQ(quiet, "");
 }
 
 }  // namespace

@@ -133,7 +133,7 @@ TEST(LightmapDisplay, CornellLightmapFrameMatchesPathTracer) {
   set.scene_triangles = baked_scene.triangle_count();
   set.scene_hash = geometry_hash_hex(baked_scene);
 
-  // Through the folder format, as `illum bake` and `illum frame --lightmap` do.
+  // Through the folder format, as `illum bake` and `illum frame --baked` do.
   TempFolder folder;
   save_lightmap_set(folder.path() / "cornell", set);
   const baked::LightmapSet loaded = baked::load_lightmap_set(folder.path() / "cornell");

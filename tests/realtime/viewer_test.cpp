@@ -79,7 +79,7 @@ void ViewerTest::expect_window_matches_headless_frame(const std::string& extra) 
   // Frame 1 lays the panel out, frame 2 draws it at its final size; 4 leaves margin.
   const Outcome view =
       run("ILLUM_VULKAN_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24'",
-          "view cornell" + size + extra + " --frames 4 --screenshot " + shot.string());
+          "view cornell" + size + extra + " --close-after-frames 4 --screenshot " + shot.string());
   ASSERT_EQ(view.exit_code, 0) << view.out << view.err;
   // The headless fallback message would mean no window was opened.
   EXPECT_EQ(view.err.find("no window available"), std::string::npos) << view.err;
@@ -93,7 +93,7 @@ void ViewerTest::expect_window_matches_headless_frame(const std::string& extra) 
   EXPECT_EQ(std::stoi(m[1]), kWidth);
   EXPECT_EQ(std::stoi(m[2]), kHeight);
   EXPECT_EQ(std::stoi(m[7]), 0) << "validation messages:\n" << view.err;
-  EXPECT_NE(view.out.find("ended by --frames"), std::string::npos) << view.out;
+  EXPECT_NE(view.out.find("ended by --close-after-frames"), std::string::npos) << view.out;
   const int px = std::stoi(m[3]), py = std::stoi(m[4]);
   const int pw = std::stoi(m[5]), ph = std::stoi(m[6]);
   ASSERT_GT(pw, 0);
@@ -153,7 +153,7 @@ TEST_F(ViewerTest, WindowShowsABakedLightmap) {
   const fs::path folder = dir_ / "cornell-lm";
   const Outcome bake = run("", "bake cornell --resolution 64 --spp 4 -o " + folder.string());
   ASSERT_EQ(bake.exit_code, 0) << bake.err;
-  expect_window_matches_headless_frame(" --lightmap " + folder.string());
+  expect_window_matches_headless_frame(" --baked " + folder.string());
 }
 
 TEST_F(ViewerTest, WithoutDisplayFallsBackToOneHeadlessFrame) {
@@ -188,9 +188,9 @@ TEST_F(ViewerTest, WithoutDisplayFallsBackToOneHeadlessFrame) {
 TEST_F(ViewerTest, BadOptionsAreRefusedBeforeAnyWindowOrFile) {
   const std::string camera_in_missing_folder = (dir_ / "missing" / "camera.json").string();
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"--seconds -1", "--seconds: -1 is not in [0, "},
-      {"--seconds nan", "--seconds: 'nan' is not a finite number"},
-      {"--frames -3", "--frames: -3 is not at least 0"},
+      {"--close-after-seconds -1", "--close-after-seconds: -1 is not in [0, "},
+      {"--close-after-seconds nan", "--close-after-seconds: 'nan' is not a finite number"},
+      {"--close-after-frames -3", "--close-after-frames: -3 is not at least 0"},
       {"--width 0", "--width: 0 is not in [1, 16384]"},
       {"--camera-out " + (dir_ / "camera.txt").string(), "must be a .json file"},
       {"--camera-out " + camera_in_missing_folder, "does not exist"}};
@@ -259,7 +259,7 @@ double elevation(const ViewCamera& c) {
 // times.txt (key holds and the exit) in the test's folder.
 constexpr const char* kInputScript = R"sh(set -u
 illum="$1"; dir="$2"
-ILLUM_VULKAN_VALIDATION=1 "$illum" view cornell --width 320 --height 240 --seconds 30 \
+ILLUM_VULKAN_VALIDATION=1 "$illum" view cornell --width 320 --height 240 --close-after-seconds 30 \
   --camera-out "$dir/camera.json" >"$dir/view.out" 2>"$dir/view.err" </dev/null &
 pid=$!
 fail() { echo "input script: $*" >&2; kill $pid 2>/dev/null; wait $pid; exit 99; }
@@ -320,7 +320,7 @@ echo "exit $rc $t0 $(now)" >>"$dir/times.txt"
   std::printf("input test: %.1f s wall\n%s", wall_s, out.c_str());
   ASSERT_EQ(r.exit_code, 0) << r.err << out << err;
 
-  // Esc ends the viewer cleanly: exit 0, by Esc (not by the --seconds 30 safety net),
+  // Esc ends the viewer cleanly: exit 0, by Esc (not by the --close-after-seconds 30 safety net),
   // nothing on stderr from the validation layer, and the panel where the drags assume it.
   std::map<std::string, std::vector<double>> times;
   {

@@ -458,8 +458,7 @@ LightmapBake bake_lightmap(const Scene& scene, const RayTracer& tracer,
 
   const int64_t count = static_cast<int64_t>(raster.samples.size());
   const bool timed = options.time_budget_s > 0.0;
-  Progress progress("bake", timed ? count * int64_t(options.spp) : count,
-                    options.progress && Progress::stderr_is_terminal());
+  Progress progress("bake", timed ? count * int64_t(options.spp) : count, options.progress);
   std::atomic<int64_t> total_rays{0}, dropped{0};
   if (!timed)
     bake_planned(estimator, options.spp, progress, total_rays, dropped, &bake);

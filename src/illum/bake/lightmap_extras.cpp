@@ -141,7 +141,7 @@ LightmapExtras bake_lightmap_extras(const Scene& scene, const RayTracer& tracer,
                                options.obscurance ? d_max : 0.0f);
   const Color r_ave = out.average_albedo;
   const int64_t count = static_cast<int64_t>(raster.samples.size());
-  Progress progress("extras", count, options.progress && Progress::stderr_is_terminal());
+  Progress progress("extras", count, options.progress);
   std::atomic<int64_t> total_rays{0};
   const double inv_rays = 1.0 / static_cast<double>(options.rays);
 

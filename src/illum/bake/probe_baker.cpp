@@ -161,7 +161,7 @@ std::vector<ProbeRecord> bake_probes_at(const Scene& scene, const RayTracer& tra
   const int64_t count = int64_t(points.size());
   std::vector<ProbeRecord> records(points.size());
   if (standard_errors) standard_errors->assign(points.size() * kProbeCoefficients * 3, 0.0f);
-  Progress progress("probes", count, options.progress && Progress::stderr_is_terminal());
+  Progress progress("probes", count, options.progress);
   std::atomic<int64_t> total_rays{0}, dropped{0}, invalid{0};
   const double n = double(options.spp);
 

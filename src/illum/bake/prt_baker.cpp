@@ -174,8 +174,7 @@ void bake_direct(const RayTracer& tracer, std::span<const BakePoint> points,
   const size_t p = size_t(count) * 3;
   out.assign(points.size() * p, 0.0f);
   const std::vector<double> cosine = sh::clamped_cosine_factors(options.bands);
-  Progress progress(label, int64_t(points.size()),
-                    options.progress && Progress::stderr_is_terminal());
+  Progress progress(label, int64_t(points.size()), options.progress);
   parallel_for(
       int64_t(points.size()),
       [&](int64_t begin, int64_t end) {

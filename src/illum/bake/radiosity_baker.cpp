@@ -387,7 +387,7 @@ RadiosityBake bake_radiosity(const Scene& scene, const RayTracer& tracer,
     shooting.seed = options.seed;
     shooting.time_budget_s = options.time_budget_s;
     shooting.cluster_ratio = options.cluster_ratio;
-    shooting.progress = options.progress && Progress::stderr_is_terminal();
+    shooting.progress = options.progress;
     shooting.label = "radiosity";
     const ShootingStats stats = shoot_progressively(set, total, unshot, transport, shooting);
     bake.shots = stats.shots;

@@ -1,6 +1,10 @@
 #include "illum/core/params.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "illum/core/json_input.h"
 
@@ -21,6 +25,7 @@ Params Params::from_file(const std::string& json_path) {
 }
 
 bool Params::has(const std::string& key) const {
+  state_->asked.insert(key);
   return state_->json.contains(key);
 }
 
@@ -30,6 +35,7 @@ std::string Params::where(const std::string& key) const {
 }
 
 const nlohmann::json& Params::at(const std::string& key) const {
+  state_->asked.insert(key);
   auto it = state_->json.find(key);
   if (it == state_->json.end()) throw Error(fmt::format("{} is required but missing", where(key)));
   state_->used.insert(key);
@@ -157,9 +163,44 @@ std::vector<Params> Params::children(const std::string& key) const {
 
 void Params::check_all_used() const {
   for (const auto& [key, value] : state_->json.items()) {
-    if (!state_->used.count(key)) throw Error(fmt::format("{} is not a known key", where(key)));
+    if (state_->used.count(key)) continue;
+    std::vector<std::string> known;
+    for (const std::string& k : state_->asked)
+      if (!state_->unlisted.count(k) && k != key) known.push_back(k);
+    if (known.empty()) throw Error(fmt::format("{} is not a known key", where(key)));
+    const std::string near = nearest_name(key, known);
+    throw Error(fmt::format("{} is not a known key{} (known: {})", where(key),
+                            near.empty() ? "" : fmt::format("; did you mean '{}'?", near),
+                            fmt::join(known, ", ")));
   }
   for (const auto& c : state_->handed_out) c.check_all_used();
+}
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates) {
+  // Past a third of the name's length the "suggestion" is mostly another word.
+  const size_t limit = std::max<size_t>(2, name.size() / 3);
+  std::string best;
+  size_t best_distance = limit + 1;
+  for (const std::string& c : candidates) {
+    const size_t d = edit_distance(name, c);
+    if (d < best_distance) best = c, best_distance = d;
+  }
+  return best;
 }
 
 }  // namespace illum

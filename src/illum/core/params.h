@@ -53,9 +53,14 @@ class Params {
 
   // Marks a key as consumed without reading it through this dictionary.
   void mark_used(const std::string& key) const;
-  // Throws Error("<origin>: unknown key 'x' in <path>") for the first key never read;
+  // Throws Error for the first key never read, naming it, the nearest key the readers asked
+  // for ("did you mean 'max_depth'?") and every key they asked for but the unlisted ones;
   // recurses into children that were handed out.
   void check_all_used() const;
+  // Keys left out of that list: those a dedicated option sets (and refuses here).
+  void unlist(std::set<std::string> keys) const { state_->unlisted = std::move(keys); }
+  // Whether a reader took `key` (a value the reader has no use for was given).
+  bool was_read(const std::string& key) const { return state_->used.count(key) > 0; }
 
   const nlohmann::json& raw() const { return state_->json; }
 
@@ -66,11 +71,18 @@ class Params {
     std::string origin = "parameters";
     std::string path;
     std::set<std::string> used;
+    std::set<std::string> asked;  // every key a reader looked for: the valid ones
+    std::set<std::string> unlisted;
     std::vector<Params> handed_out;
   };
   const nlohmann::json& at(const std::string& key) const;
   std::shared_ptr<State> state_ = std::make_shared<State>();
 };
+
+// Levenshtein distance, and the candidate nearest to `name` within a third of its length
+// (at least 2 edits), or "": the "did you mean" of unknown keys and options.
+size_t edit_distance(const std::string& a, const std::string& b);
+std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates);
 
 template <>
 bool Params::get<bool>(const std::string& key) const;

@@ -457,8 +457,9 @@ struct FrameClock {
 const char* loop_end(GLFWwindow* window, const ViewerOptions& viewer, const FrameClock& clock,
                      const ViewerInput& input) {
   if (glfwWindowShouldClose(window)) return "closing the window";
-  if (viewer.frames > 0 && clock.frames >= viewer.frames) return "--frames";
-  if (viewer.seconds > 0.0 && glfwGetTime() - clock.start >= viewer.seconds) return "--seconds";
+  if (viewer.frames > 0 && clock.frames >= viewer.frames) return "--close-after-frames";
+  if (viewer.seconds > 0.0 && glfwGetTime() - clock.start >= viewer.seconds)
+    return "--close-after-seconds";
   glfwPollEvents();
   if (input.quit) return "Esc";
   return nullptr;

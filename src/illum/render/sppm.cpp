@@ -167,7 +167,7 @@ Image SppmIntegrator::render(const RayTracer& tracer, const Camera& camera,
   PhotonPathSettings path;
   path.max_depth = max_depth_ >= 0 ? max_depth_ : 16;
 
-  Progress progress("sppm", iterations, options.progress && Progress::stderr_is_terminal());
+  Progress progress("sppm", iterations, options.progress);
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -68,8 +68,7 @@ Image render_tiles(const Camera& camera, const RenderOptions& options, const std
   std::vector<Color> sum(static_cast<size_t>(width) * height, Color(0.0f));
   const int tiles = ((width + kRenderTileSize - 1) / kRenderTileSize) *
                     ((height + kRenderTileSize - 1) / kRenderTileSize);
-  Progress progress(label, static_cast<int64_t>(tiles) * options.spp,
-                    options.progress && Progress::stderr_is_terminal());
+  Progress progress(label, static_cast<int64_t>(tiles) * options.spp, options.progress);
   std::atomic<int64_t> dropped{0};
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] {
