@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cli_fixture.h"
+#include "illum/core/auto_exposure.h"
 #include "illum/core/image.h"
 
 using namespace illum_cli_test;
@@ -29,17 +30,21 @@ int files_in(const fs::path& dir) {
 }
 
 // The tone mapping `illum render` documents for its 8-bit output (--help, core/tonemap.h),
-// written out here independently: exposure, then clamp, or Reinhard on Rec.709 luminance
-// c/(1 + L) clamped, then the sRGB transfer function (IEC 61966-2-1) and rounding to 8 bits.
+// written out here independently: exposure, then clamp, Reinhard on Rec.709 luminance
+// c/(1 + L) clamped, or ACES (Narkowicz's fit), then the sRGB transfer function
+// (IEC 61966-2-1) and rounding to 8 bits.
+enum class Mapper { kClamp, kReinhard, kAces };
 double srgb(double v) {
   v = std::clamp(v, 0.0, 1.0);
   return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
 }
-std::vector<double> documented_png(const double rgb[3], bool reinhard, double exposure) {
+std::vector<double> documented_png(const double rgb[3], Mapper mapper, double exposure) {
   double c[3] = {rgb[0] * exposure, rgb[1] * exposure, rgb[2] * exposure};
-  if (reinhard) {
+  if (mapper == Mapper::kReinhard) {
     const double l = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     for (double& v : c) v = l > 0.0 ? v / (1.0 + l) : 0.0;
+  } else if (mapper == Mapper::kAces) {
+    for (double& v : c) v = v * (2.51 * v + 0.03) / (v * (2.43 * v + 0.59) + 0.14);
   }
   std::vector<double> codes(3);
   for (int k = 0; k < 3; ++k) codes[static_cast<size_t>(k)] = std::floor(srgb(c[k]) * 255.0 + 0.5);
@@ -58,10 +63,11 @@ std::pair<double, double> half_interval(double h) {
 }
 
 // Every PNG code must be one the documented mapping gives for some float inside the EXR
-// pixel's rounding box. Each tone mapper is monotone in each channel, so the extremes of a
-// channel's code over the box lie at its corners.
+// pixel's rounding box and some exposure in [exposure_lo, exposure_hi]. Each tone mapper is
+// monotone in each channel and in the exposure, so the extremes of a channel's code over the
+// box lie at its corners.
 void expect_png_is_tone_mapped_exr(const fs::path& exr_path, const fs::path& png_path,
-                                   bool reinhard, double exposure) {
+                                   Mapper mapper, double exposure_lo, double exposure_hi) {
   const illum::Image exr = illum::read_image(exr_path.string());
   const illum::Image png = illum::read_image(png_path.string(), /*srgb=*/false);
   ASSERT_EQ(exr.width(), png.width());
@@ -78,10 +84,12 @@ void expect_png_is_tone_mapped_exr(const fs::path& exr_path, const fs::path& png
         const double rgb[3] = {corner & 1 ? box[0].second : box[0].first,
                                corner & 2 ? box[1].second : box[1].first,
                                corner & 4 ? box[2].second : box[2].first};
-        const std::vector<double> codes = documented_png(rgb, reinhard, exposure);
-        for (int c = 0; c < 3; ++c) {
-          lo[c] = std::min(lo[c], codes[static_cast<size_t>(c)]);
-          hi[c] = std::max(hi[c], codes[static_cast<size_t>(c)]);
+        for (double exposure : {exposure_lo, exposure_hi}) {
+          const std::vector<double> codes = documented_png(rgb, mapper, exposure);
+          for (int c = 0; c < 3; ++c) {
+            lo[c] = std::min(lo[c], codes[static_cast<size_t>(c)]);
+            hi[c] = std::max(hi[c], codes[static_cast<size_t>(c)]);
+          }
         }
       }
       for (int c = 0; c < 3; ++c) {
@@ -102,7 +110,7 @@ void expect_png_is_tone_mapped_exr(const fs::path& exr_path, const fs::path& png
 
 TEST_F(CliTest, ExrComesWithItsToneMappedPng) {
   // README: `-o x.exr` writes the linear x.exr and a tone-mapped x.png beside it — with the
-  // default mapping (clamp, exposure 1) and with the options.
+  // default mapping (ACES, the auto exposure of core/auto_exposure.h) and with the options.
   const fs::path exr = dir_ / "pair.exr", png = dir_ / "pair.png";
   const std::string base =
       "render cornell -i path --width 24 --height 24 --spp 4 -o " + exr.string();
@@ -111,10 +119,40 @@ TEST_F(CliTest, ExrComesWithItsToneMappedPng) {
   ASSERT_TRUE(fs::exists(exr));
   ASSERT_TRUE(fs::exists(png));
   EXPECT_EQ(files_in(dir_), 2) << "the pair and nothing else (no temporary files)";
-  expect_png_is_tone_mapped_exr(exr, png, false, 1.0);
+  // The rule's exposure from the half-float EXR: each pixel whose rounding box spans a bin
+  // edge may have been counted in the neighbouring bin from the float image, moving the mean
+  // by at most a bin over the band's pixels.
+  const illum::Image linear = illum::read_image(exr.string());
+  const illum::AutoExposure auto_exposure = illum::auto_exposure(linear);
+  ASSERT_GT(auto_exposure.counted, 24u * 24 / 2);
+  int straddling = 0;
+  for (int y = 0; y < linear.height(); ++y)
+    for (int x = 0; x < linear.width(); ++x) {
+      double l[2] = {0.0, 0.0};
+      const double weights[3] = {0.2126, 0.7152, 0.0722};
+      for (int c = 0; c < 3; ++c) {
+        const auto [lo, hi] = half_interval(linear.pixel(x, y)[c]);
+        l[0] += weights[c] * lo;
+        l[1] += weights[c] * hi;
+      }
+      straddling += illum::exposure_bin(float(l[0])) != illum::exposure_bin(float(l[1]));
+    }
+  const double band = illum::exposure::kHighPercentile - illum::exposure::kLowPercentile;
+  const double slack = std::exp2(
+      illum::kExposureBinWidth * straddling / (band * double(auto_exposure.counted)) + 1e-5);
+  expect_png_is_tone_mapped_exr(exr, png, Mapper::kAces, auto_exposure.exposure / slack,
+                                auto_exposure.exposure * slack);
+  // --exposure multiplies the auto exposure; --fixed-exposure makes it the whole exposure.
   r = run(base + " --tonemap reinhard --exposure 2.5");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  expect_png_is_tone_mapped_exr(exr, png, true, 2.5);
+  expect_png_is_tone_mapped_exr(exr, png, Mapper::kReinhard, 2.5 * auto_exposure.exposure / slack,
+                                2.5 * auto_exposure.exposure * slack);
+  r = run(base + " --tonemap clamp --fixed-exposure");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_png_is_tone_mapped_exr(exr, png, Mapper::kClamp, 1.0, 1.0);
+  r = run(base + " --tonemap reinhard --exposure 2.5 --fixed-exposure");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_png_is_tone_mapped_exr(exr, png, Mapper::kReinhard, 2.5, 2.5);
   // --no-preview: the EXR alone.
   fs::remove(png);
   ASSERT_EQ(run(base + " --no-preview").exit_code, 0);
