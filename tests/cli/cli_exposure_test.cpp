@@ -40,18 +40,26 @@ class ExposureAgreement : public CliTest {
   }
 
   // Bakes `scene` (all light), renders its light-mapped frame and two path-traced images
-  // (seeds 1, 2) at width × height, and checks the means and the default exposures.
+  // (seeds 1, 2) at width × height, and checks the means and the default exposures. With
+  // `glb`, the frame is of the scene exported with its light-map (`illum export`, RGBM in the
+  // .glb) rather than of the bake folder.
   void check(const std::string& scene, const std::string& bake_options, int width, int height,
-             int spp) {
+             int spp, bool glb = false) {
     const fs::path lm = dir_ / "lm", frame = dir_ / "frame.exr";
     const std::string size = fmt::format(" --width {} --height {}", width, height);
     Result r = illum(fmt::format("bake {} --seed 1 {} -o {}", scene, bake_options, lm.string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = illum(fmt::format("frame {} --baked {}{} -o {}", scene, lm.string(), size, frame.string()));
+    std::string shown = fmt::format("{} --baked {}", scene, lm.string());
+    if (glb) {
+      const fs::path exported = dir_ / "exported.glb";
+      r = illum(fmt::format("export {} --baked {} -o {}", scene, lm.string(), exported.string()));
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      shown = exported.string();  // its light-map is embedded
+    }
+    r = illum(fmt::format("frame {}{} -o {}", shown, size, frame.string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const fs::path frame_png = dir_ / "frame.png";
-    r = illum(
-        fmt::format("frame {} --baked {}{} -o {}", scene, lm.string(), size, frame_png.string()));
+    r = illum(fmt::format("frame {}{} -o {}", shown, size, frame_png.string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     illum::Image path[2];
     for (int seed : {1, 2}) {
@@ -110,6 +118,10 @@ class ExposureAgreement : public CliTest {
 
 TEST_F(ExposureAgreement, CornellLightmapFrameAndPathTracer) {
   check("cornell", "--resolution 128 --spp 128", 64, 64, 64);
+}
+
+TEST_F(ExposureAgreement, ExportedCornellGlbFrameAndPathTracer) {
+  check("cornell", "--resolution 128 --spp 128", 64, 64, 64, /*glb=*/true);
 }
 
 TEST_F(ExposureAgreement, SibenikLightmapFrameAndPathTracer) {
