@@ -387,8 +387,10 @@ TEST_F(BakedDisplayCli, BadFoldersAreRefused) {
     return copy.string();
   };
   refused("--baked " + broken("malformed", "{", "{{"), "prt.json");
-  refused("--baked " + broken("bands9", "\"bands\": 3", "\"bands\": 9"), "bands = 9");
-  refused("--baked " + broken("bands1", "\"bands\": 3", "\"bands\": 1"), "bands = 1");
+  refused("--baked " + broken("bands9", "\"bands\": 3", "\"bands\": 9"),
+          "'bands' must be an integer in [2, 8], not 9");
+  refused("--baked " + broken("bands1", "\"bands\": 3", "\"bands\": 1"),
+          "'bands' must be an integer in [2, 8], not 1");
   refused("--baked " + prt.string() + " --baked " + prt.string(), "a second PRT folder");
   const fs::path lm = dir_ / "lm";
   ASSERT_EQ(run("bake cornell --resolution 32 --spp 1 --seed 1 -o " + lm.string()).exit_code, 0);

@@ -300,8 +300,9 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
   manifest.expect_same("height", height, uint64_t(set.atlas.height), "the atlas");
   manifest.expect_same("charts", charts, uint64_t(set.atlas.chart_count), "the atlas");
   if (float(texel_size) != set.atlas.texel_size)
-    manifest.fail(
-        fmt::format("'texel_size' is {}, but the atlas says {}", texel_size, set.atlas.texel_size));
+    manifest.fail(fmt::format(
+        "'texel_size' is {}, but the atlas says {} (an atlas.bin of another bake); bake it again",
+        texel_size, set.atlas.texel_size));
   for (const std::string& name : names) {
     // The reader refuses malformed, oversized and non-finite (NaN/Inf) files, naming them.
     Image layer = read_image((folder / name).string(), false);

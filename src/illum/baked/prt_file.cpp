@@ -207,8 +207,9 @@ PrtSet load_prt_set(const fs::path& folder) {
   manifest.expect_same("height", height, uint64_t(set.atlas.height), "the atlas");
   manifest.expect_same("charts", charts, uint64_t(set.atlas.chart_count), "the atlas");
   if (float(texel_size) != set.atlas.texel_size)
-    manifest.fail(
-        fmt::format("'texel_size' is {}, but the atlas says {}", texel_size, set.atlas.texel_size));
+    manifest.fail(fmt::format(
+        "'texel_size' is {}, but the atlas says {} (an atlas.bin of another bake); bake it again",
+        texel_size, set.atlas.texel_size));
   const uint32_t channels = uint32_t(3 * coefficients);
   if (manifest.has("texels")) {
     const uint64_t points = uint64_t(set.atlas.width) * uint64_t(set.atlas.height);
