@@ -2,6 +2,8 @@
 // accesses, history copies, schedules (every N with a phase, round-robin, on change) and
 // invalidation by what changed. Passes record nothing; execute(VK_NULL_HANDLE, ...) runs
 // the schedules and derives the barriers as data.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "illum/core/error.h"
@@ -317,6 +319,114 @@ TEST(FrameGraph, HistoryReadersSeeTheNewestCopyBetweenScheduledWrites) {
   for (uint64_t f = 0; f < 7; ++f) g.execute(VK_NULL_HANDLE, f, nullptr);
   EXPECT_EQ(writes, (std::vector<int>{1, 0, 1}));  // frames 0, 3, 6
   EXPECT_EQ(read, (std::vector<int>{1, 1, 1, 0, 0, 0, 1}));
+}
+
+// A pyramid built level by level: each level is written as a storage image while the level
+// above is sampled. Every level keeps its own state: each step puts a barrier on the levels
+// it touches only, and a later whole-image read needs one for the last level alone.
+TEST(FrameGraph, MipLevelsKeepTheirOwnStateInAPyramid) {
+  FrameGraph g;
+  ResourceDesc pyramid = image("pyramid", VK_FORMAT_R32_SFLOAT);
+  pyramid.frame_divisor = 0;
+  pyramid.width = pyramid.height = 16;
+  pyramid.mips = 5;
+  g.add_resource(pyramid);
+  g.add_resource(image("out"));
+  const Access write{"pyramid", kStorageWrite, kComputeShader};
+  const Access sample{"pyramid", kSampled, kComputeShader};
+  g.add_pass(pass("fill", Phase::kScreenSpace, {write.mips(0)}));
+  PassDesc down = pass("downsample", Phase::kScreenSpace, {write.mips(1, 4), sample.mips(0, 4)});
+  down.record = [&](PassContext& ctx) {
+    for (uint32_t m = 1; m < 5; ++m) {
+      ctx.use(sample.mips(m - 1));
+      ctx.use(write.mips(m));
+    }
+  };
+  g.add_pass(down);
+  g.add_pass(pass("use", Phase::kPost, {sample, {"out", kStorageWrite, kComputeShader}}));
+  g.compile();
+  g.execute(VK_NULL_HANDLE, 0, nullptr);
+  std::vector<const Barrier*> b;
+  for (const Barrier& x : g.barriers())
+    if (x.resource == "pyramid") b.push_back(&x);
+  // fill: level 0 to GENERAL; the downsample's first access: levels 1–4 to GENERAL in one
+  // barrier.
+  ASSERT_GE(b.size(), 3u);
+  EXPECT_EQ(b[0]->base_mip, 0u);
+  EXPECT_EQ(b[0]->mip_count, 1u);
+  EXPECT_EQ(b[0]->new_layout, VK_IMAGE_LAYOUT_GENERAL);
+  EXPECT_EQ(b[1]->base_mip, 1u);
+  EXPECT_EQ(b[1]->mip_count, 4u);
+  EXPECT_EQ(b[1]->new_layout, VK_IMAGE_LAYOUT_GENERAL);
+  // Every level m − 1 is made readable once, just before level m is written.
+  for (uint32_t m = 1; m < 5; ++m) {
+    auto it = std::find_if(b.begin(), b.end(), [&](const Barrier* x) {
+      return x->base_mip == m - 1 && x->mip_count == 1 &&
+             x->new_layout == VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    });
+    ASSERT_NE(it, b.end()) << "level " << m - 1;
+    EXPECT_EQ((*it)->old_layout, VK_IMAGE_LAYOUT_GENERAL);
+    EXPECT_EQ((*it)->src_access, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+  }
+  // The whole-image read at the end: only level 4 is still GENERAL, one barrier for it;
+  // levels 0–3 are already readable.
+  const Barrier* last = b.back();
+  EXPECT_EQ(last->base_mip, 4u);
+  EXPECT_EQ(last->mip_count, 1u);
+  EXPECT_EQ(last->new_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  // Frame 1: levels 0–3 go from SHADER_READ back to GENERAL for writing, level 4 too; the
+  // downsample's first access covers levels 1–4 in one barrier (same old state).
+  g.execute(VK_NULL_HANDLE, 1, nullptr);
+  const Barrier* again = find_barrier(g.barriers(), "pyramid", 1);
+  ASSERT_NE(again, nullptr);
+  EXPECT_EQ(again->base_mip, 1u);
+  EXPECT_EQ(again->mip_count, 4u);
+  EXPECT_EQ(again->old_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  // Ranges outside the image are wiring bugs.
+  FrameGraph bad;
+  bad.add_resource(pyramid);
+  bad.add_pass(pass("p", Phase::kPost, {write.mips(5)}));
+  EXPECT_THROW(bad.execute(VK_NULL_HANDLE, 0, nullptr), InternalError);
+}
+
+// Layers of a cube map rendered one face at a time then sampled whole: per-face barriers
+// while rendering, then one barrier over the six faces that share their state.
+TEST(FrameGraph, LayersRenderedOneAtATimeAreReadInOneBarrier) {
+  FrameGraph g;
+  ResourceDesc cube = image("cube", VK_FORMAT_R16G16B16A16_SFLOAT);
+  cube.frame_divisor = 0;
+  cube.width = cube.height = 8;
+  cube.layers = 6;
+  cube.cube = true;
+  g.add_resource(cube);
+  g.add_resource(image("out"));
+  const Access face{"cube", kColorAttachment};
+  PassDesc capture = pass("capture", Phase::kGeometry, {face});
+  capture.record = [&](PassContext& ctx) {
+    for (uint32_t f = 1; f < 6; ++f) ctx.use(face.layers(f));
+  };
+  g.add_pass(capture);
+  g.add_pass(pass("read", Phase::kPost, {{"cube", kSampled}, {"out", kColorAttachment}}));
+  g.compile();
+  // Each frame: the first access takes all six faces in one barrier; each later face finds
+  // its layer written by that access's scope and gets a write-after-write barrier of its
+  // own layer only; the read covers the six faces, which share their state, in one.
+  for (uint64_t frame = 0; frame < 2; ++frame) {
+    g.execute(VK_NULL_HANDLE, frame, nullptr);
+    ASSERT_EQ(count_barriers(g.barriers(), "cube"), 7u);
+    const Barrier* first = find_barrier(g.barriers(), "cube", 0);
+    EXPECT_EQ(first->base_layer, 0u);
+    EXPECT_EQ(first->layer_count, 6u);
+    for (uint32_t f = 1; f < 6; ++f) {
+      const Barrier* b = find_barrier(g.barriers(), "cube", f);
+      EXPECT_EQ(b->base_layer, f);
+      EXPECT_EQ(b->layer_count, 1u);
+    }
+  }
+  const Barrier* read = find_barrier(g.barriers(), "cube", 6);
+  EXPECT_EQ(read->base_layer, 0u);
+  EXPECT_EQ(read->layer_count, 6u);
+  EXPECT_EQ(read->new_layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
 }
 
 std::vector<std::string> run(FrameGraph& g, uint64_t frame) {

@@ -88,12 +88,28 @@ int format_channels(VkFormat f) {
 }
 }  // namespace
 
-GpuImage::GpuImage(Context& context, const ImageDesc& desc) : context_(&context), desc_(desc) {
+uint32_t mip_chain_length(uint32_t width, uint32_t height, uint32_t depth) {
+  uint32_t side = std::max({width, height, depth, 1u}), levels = 1;
+  while (side > 1) {
+    side /= 2;
+    ++levels;
+  }
+  return levels;
+}
+
+GpuImage::GpuImage(Context& context, const ImageDesc& desc)
+    : context_(&context), desc_(desc), mips_(desc.mips) {
+  const bool volume = desc.depth > 1;
+  ILLUM_CHECK(!volume || (desc.layers == 1 && !desc.cube && !desc.array),
+              "a 3-D image has one layer and is neither a cube nor an array");
+  ILLUM_CHECK(desc.mips >= 1 && desc.mips <= mip_chain_length(desc.width, desc.height, desc.depth),
+              "{} mip levels for a {}x{}x{} image", desc.mips, desc.width, desc.height, desc.depth);
+  layouts_.assign(static_cast<size_t>(desc.mips) * desc.layers, VK_IMAGE_LAYOUT_UNDEFINED);
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.flags = desc.cube ? VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT : 0;
-  info.imageType = VK_IMAGE_TYPE_2D;
+  info.imageType = volume ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
   info.format = desc.format;
-  info.extent = {desc.width, desc.height, 1};
+  info.extent = {desc.width, desc.height, desc.depth};
   info.mipLevels = desc.mips;
   info.arrayLayers = desc.layers;
   info.samples = VK_SAMPLE_COUNT_1_BIT;
@@ -120,7 +136,8 @@ GpuImage::GpuImage(Context& context, const ImageDesc& desc) : context_(&context)
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = image_;
     view.viewType =
-        desc.cube ? (desc.cube_array ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE)
+        volume      ? VK_IMAGE_VIEW_TYPE_3D
+        : desc.cube ? (desc.cube_array ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE)
         : desc.layers > 1 || desc.array ? VK_IMAGE_VIEW_TYPE_2D_ARRAY
                                         : VK_IMAGE_VIEW_TYPE_2D;
     view.format = desc.format;
@@ -129,6 +146,16 @@ GpuImage::GpuImage(Context& context, const ImageDesc& desc) : context_(&context)
         is_depth_format(desc.format) ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : aspect(), 0,
         desc.mips, 0, desc.layers};
     ILLUM_VK(vkCreateImageView(context.device(), &view, nullptr, &view_));
+    if (desc.mips > 1) {
+      for (uint32_t m = 0; m < desc.mips; ++m) {
+        VkImageViewCreateInfo level = view;
+        level.subresourceRange.baseMipLevel = m;
+        level.subresourceRange.levelCount = 1;
+        VkImageView v = VK_NULL_HANDLE;
+        ILLUM_VK(vkCreateImageView(context.device(), &level, nullptr, &v));
+        mip_views_.push_back(v);
+      }
+    }
     // Depth-stencil images get per-layer views with both aspects for attachments; their
     // default view (sampling) sees depth only.
     if (desc.layers > 1 || has_stencil(desc.format)) {
@@ -156,9 +183,13 @@ GpuImage& GpuImage::operator=(GpuImage&& o) noexcept {
     view_ = std::exchange(o.view_, VK_NULL_HANDLE);
     layer_views_ = std::move(o.layer_views_);
     o.layer_views_.clear();
+    mip_views_ = std::move(o.mip_views_);
+    o.mip_views_.clear();
     allocation_ = std::exchange(o.allocation_, Allocation{});
     desc_ = o.desc_;
-    layout_ = std::exchange(o.layout_, VK_IMAGE_LAYOUT_UNDEFINED);
+    mips_ = std::exchange(o.mips_, 0);
+    layouts_ = std::move(o.layouts_);
+    o.layouts_.clear();
     stage_ = o.stage_;
     access_ = o.access_;
   }
@@ -171,13 +202,23 @@ void GpuImage::reset() {
   for (VkImageView v : layer_views_)
     if (v != view_) vkDestroyImageView(d, v, nullptr);
   layer_views_.clear();
+  for (VkImageView v : mip_views_) vkDestroyImageView(d, v, nullptr);
+  mip_views_.clear();
   if (view_) vkDestroyImageView(d, view_, nullptr);
   if (image_) vkDestroyImage(d, image_, nullptr);
   context_->allocator().free(allocation_);
   view_ = VK_NULL_HANDLE;
   image_ = VK_NULL_HANDLE;
   context_ = nullptr;
-  layout_ = VK_IMAGE_LAYOUT_UNDEFINED;
+  layouts_.clear();
+  mips_ = 0;
+}
+
+VkImageLayout GpuImage::layout() const {
+  if (layouts_.empty()) return VK_IMAGE_LAYOUT_UNDEFINED;
+  for (VkImageLayout l : layouts_)
+    if (l != layouts_.front()) return VK_IMAGE_LAYOUT_MAX_ENUM;
+  return layouts_.front();
 }
 
 VkImageAspectFlags GpuImage::aspect() const {
@@ -208,15 +249,68 @@ void image_barrier(VkCommandBuffer cmd, VkImage image, const VkImageSubresourceR
 
 void GpuImage::transition(VkCommandBuffer cmd, VkImageLayout layout, VkPipelineStageFlags2 stage,
                           VkAccessFlags2 access) {
-  image_barrier(cmd, image_, {aspect(), 0, desc_.mips, 0, desc_.layers}, layout_, layout,
-                stage_ == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT : stage_,
-                access_, stage, access);
-  layout_ = layout;
+  transition_each(cmd, std::vector<VkImageLayout>(layouts_.size(), layout), stage, access);
+}
+
+void GpuImage::transition_each(VkCommandBuffer cmd, const std::vector<VkImageLayout>& to,
+                               VkPipelineStageFlags2 stage, VkAccessFlags2 access) {
+  const VkPipelineStageFlags2 src =
+      stage_ == VK_PIPELINE_STAGE_2_NONE ? VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT : stage_;
+  // Runs of layers of one level with the same (old, new) layouts, merged with the same run
+  // of the level above: a uniform image takes one barrier.
+  struct Run {
+    VkImageSubresourceRange range;
+    VkImageLayout from, to;
+  };
+  std::vector<Run> runs;
+  const uint32_t layers = desc_.layers;
+  for (uint32_t m = 0; m < mips_; ++m) {
+    std::vector<Run> level;
+    for (uint32_t l = 0; l < layers; ++l) {
+      const size_t i = static_cast<size_t>(m) * layers + l;
+      if (!level.empty() && level.back().from == layouts_[i] && level.back().to == to[i])
+        ++level.back().range.layerCount;
+      else
+        level.push_back({{aspect(), m, 1, l, 1}, layouts_[i], to[i]});
+    }
+    for (const Run& r : level) {
+      auto same = std::find_if(runs.begin(), runs.end(), [&](const Run& o) {
+        return o.range.baseMipLevel + o.range.levelCount == m &&
+               o.range.baseArrayLayer == r.range.baseArrayLayer &&
+               o.range.layerCount == r.range.layerCount && o.from == r.from && o.to == r.to;
+      });
+      if (same != runs.end())
+        ++same->range.levelCount;
+      else
+        runs.push_back(r);
+    }
+  }
+  for (const Run& r : runs)
+    image_barrier(cmd, image_, r.range, r.from, r.to, src, access_, stage, access);
+  layouts_ = to;
   stage_ = stage;
   access_ = access;
 }
 
+void GpuImage::assume_state(VkImageLayout layout, VkPipelineStageFlags2 stage,
+                            VkAccessFlags2 access) {
+  std::fill(layouts_.begin(), layouts_.end(), layout);
+  stage_ = stage;
+  access_ = access;
+}
+
+void GpuImage::assume_state(const VkImageSubresourceRange& range, VkImageLayout layout,
+                            VkPipelineStageFlags2 stage, VkAccessFlags2 access) {
+  for (uint32_t m = range.baseMipLevel; m < range.baseMipLevel + range.levelCount; ++m)
+    for (uint32_t l = range.baseArrayLayer; l < range.baseArrayLayer + range.layerCount; ++l)
+      layouts_.at(static_cast<size_t>(m) * desc_.layers + l) = layout;
+  const bool whole = range.levelCount == mips_ && range.layerCount == desc_.layers;
+  stage_ = whole ? stage : stage_ | stage;
+  access_ = whole ? access : access_ | access;
+}
+
 void GpuImage::upload(const Image& image, uint32_t layer) {
+  ILLUM_CHECK(desc_.depth == 1, "GpuImage::upload fills 2-D images");
   ILLUM_CHECK(static_cast<uint32_t>(image.width()) == desc_.width &&
                   static_cast<uint32_t>(image.height()) == desc_.height,
               "upload size mismatch");
@@ -304,8 +398,10 @@ void GpuImage::upload(const Image& image, uint32_t layer) {
 }
 
 Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask, uint32_t mip) {
-  ILLUM_CHECK(mip < desc_.mips && layer < desc_.layers,
-              "readback of a level or layer that does not exist");
+  const bool volume = desc_.depth > 1;
+  ILLUM_CHECK(
+      mip < desc_.mips && layer < (volume ? std::max(1u, desc_.depth >> mip) : desc_.layers),
+      "readback of a level, layer or slice that does not exist");
   const uint32_t width = std::max(1u, desc_.width >> mip),
                  height = std::max(1u, desc_.height >> mip);
   if (aspect_mask == 0)
@@ -323,18 +419,20 @@ Image GpuImage::readback(uint32_t layer, VkImageAspectFlags aspect_mask, uint32_
   const uint32_t texel = format_bytes(f);
   const VkDeviceSize bytes = VkDeviceSize(width) * height * texel;
   Buffer staging(*context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::kReadback);
-  const VkImageLayout previous =
-      layout_ == VK_IMAGE_LAYOUT_UNDEFINED ? VK_IMAGE_LAYOUT_GENERAL : layout_;
+  std::vector<VkImageLayout> previous = layouts_;
+  for (VkImageLayout& l : previous)
+    if (l == VK_IMAGE_LAYOUT_UNDEFINED) l = VK_IMAGE_LAYOUT_GENERAL;
   context_->immediate([&](VkCommandBuffer cmd) {
     transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
                VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferImageCopy copy{};
-    copy.imageSubresource = {aspect_mask, mip, layer, 1};
+    copy.imageSubresource = {aspect_mask, mip, volume ? 0 : layer, 1};
+    copy.imageOffset = {0, 0, volume ? static_cast<int32_t>(layer) : 0};
     copy.imageExtent = {width, height, 1};
     vkCmdCopyImageToBuffer(cmd, image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
                            &copy);
-    transition(cmd, previous, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-               VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    transition_each(cmd, previous, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                    VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });

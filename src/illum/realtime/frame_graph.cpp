@@ -53,9 +53,28 @@ uint32_t usage_of(Uses uses, bool image) {
 
 }  // namespace
 
+Access Access::mips(uint32_t base, uint32_t count) const {
+  Access a = *this;
+  a.base_mip = base;
+  a.mip_count = count;
+  return a;
+}
+
+Access Access::layers(uint32_t base, uint32_t count) const {
+  Access a = *this;
+  a.base_layer = base;
+  a.layer_count = count;
+  return a;
+}
+
+bool Access::same_range(const Access& o) const {
+  return base_mip == o.base_mip && mip_count == o.mip_count && base_layer == o.base_layer &&
+         layer_count == o.layer_count;
+}
+
 void merge_access(std::vector<Access>* accesses, const Access& access) {
   for (Access& a : *accesses)
-    if (a.resource == access.resource) {
+    if (a.resource == access.resource && a.same_range(access)) {
       a.uses |= access.uses;
       a.shaders |= access.shaders;
       return;
@@ -200,9 +219,10 @@ Schedule Schedule::on_change(Changes changes, int items) {
 
 bool ResourceDesc::same_shape(const ResourceDesc& o) const {
   return kind == o.kind && width == o.width && height == o.height &&
-         frame_divisor == o.frame_divisor && format == o.format && layers == o.layers &&
-         cube == o.cube && cube_array == o.cube_array && array == o.array && bytes == o.bytes &&
-         history == o.history && external == o.external && usage == o.usage;
+         frame_divisor == o.frame_divisor && depth == o.depth && mips == o.mips &&
+         format == o.format && layers == o.layers && cube == o.cube && cube_array == o.cube_array &&
+         array == o.array && bytes == o.bytes && history == o.history && external == o.external &&
+         usage == o.usage;
 }
 
 PassContext::Scope::Scope(gpu::GpuTimer* timer, VkCommandBuffer cmd, const std::string& name)
@@ -215,13 +235,17 @@ PassContext::Scope::~Scope() {
 }
 
 void PassContext::use(const std::string& resource, Uses uses, VkPipelineStageFlags2 shaders) {
+  use(Access{resource, uses, shaders});
+}
+
+void PassContext::use(const Access& access) {
   // Only what the pass declared: the usage flags and the order checks come from there.
   Uses declared = 0;
   for (const Access& a : pass_->accesses)
-    if (a.resource == resource) declared |= a.uses;
-  ILLUM_CHECK((uses & ~declared) == 0, "pass '{}' uses '{}' in a way it did not declare",
-              pass_->name, resource);
-  graph_->apply(resource, frame_, cmd_, uses, shaders);
+    if (a.resource == access.resource) declared |= a.uses;
+  ILLUM_CHECK((access.uses & ~declared) == 0, "pass '{}' uses '{}' in a way it did not declare",
+              pass_->name, access.resource);
+  graph_->apply(access, frame_, cmd_);
 }
 
 PassContext::Aside::Aside(PassContext& pass, const std::string& name) : pass_(pass) {
@@ -318,6 +342,8 @@ void FrameGraph::add_resource(ResourceDesc desc) {
               kPrevious);
   ILLUM_CHECK(desc.kind == ResourceDesc::Kind::kBuffer || desc.format != VK_FORMAT_UNDEFINED,
               "image '{}' has no format", desc.name);
+  ILLUM_CHECK(desc.depth >= 1 && (desc.depth == 1 || (desc.layers == 1 && !desc.cube)),
+              "image '{}': a 3-D image has one layer and is not a cube", desc.name);
   resources_.push_back(std::move(desc));
   copies_.emplace_back(resources_.back().history ? 2 : 1);
   versions_.emplace_back();
@@ -412,7 +438,22 @@ int FrameGraph::copies(const std::string& resource) const {
 void FrameGraph::bind_image(const std::string& resource, int copy, gpu::GpuImage* image) {
   const auto l = find(resource);
   ILLUM_CHECK(l.has_value() && !l->previous, "no resource '{}'", resource);
-  copies_[l->resource].at(static_cast<size_t>(copy)).image = image;
+  Copy& c = copies_[l->resource].at(static_cast<size_t>(copy));
+  c.image = image;
+  // A re-created image starts with no state; one of the same shape keeps it (inherit()).
+  const size_t subresources = static_cast<size_t>(levels_of(resources_[l->resource], c)) *
+                              layers_of(resources_[l->resource]);
+  if (c.states.size() != subresources) c.states.assign(subresources, ResourceState{});
+}
+
+uint32_t FrameGraph::levels_of(const ResourceDesc& r, const Copy& copy) const {
+  if (r.kind != ResourceDesc::Kind::kImage) return 1;
+  if (copy.image) return copy.image->desc().mips;
+  return std::max(r.mips, 1u);
+}
+
+uint32_t FrameGraph::layers_of(const ResourceDesc& r) const {
+  return r.kind == ResourceDesc::Kind::kImage ? r.layers : 1;
 }
 
 void FrameGraph::bind_buffer(const std::string& resource, int copy, gpu::Buffer* buffer) {
@@ -471,7 +512,7 @@ void FrameGraph::inherit(const FrameGraph& previous,
       if (previous.resources_[j].name == resources_[i].name &&
           previous.resources_[j].same_shape(resources_[i])) {
         for (size_t c = 0; c < copies_[i].size(); ++c) {
-          copies_[i][c].state = previous.copies_[j][c].state;
+          copies_[i][c].states = previous.copies_[j][c].states;
           copies_[i][c].written_frame = previous.copies_[j][c].written_frame;
         }
         versions_[i] = previous.versions_[j];
@@ -539,37 +580,86 @@ std::vector<int> FrameGraph::due_items(Node& node, uint64_t frame) {
   return due;
 }
 
-void FrameGraph::apply(const std::string& name, uint64_t frame, VkCommandBuffer cmd, Uses uses,
-                       VkPipelineStageFlags2 shaders) {
-  const auto l = find(name);
-  ILLUM_CHECK(l.has_value(), "no resource '{}'", name);
+namespace {
+bool same_sync(const Barrier& a, const Barrier& b) {
+  return a.old_layout == b.old_layout && a.new_layout == b.new_layout &&
+         a.src_stages == b.src_stages && a.dst_stages == b.dst_stages &&
+         a.src_access == b.src_access && a.dst_access == b.dst_access;
+}
+}  // namespace
+
+void FrameGraph::apply(const Access& access, uint64_t frame, VkCommandBuffer cmd) {
+  const auto l = find(access.resource);
+  ILLUM_CHECK(l.has_value(), "no resource '{}'", access.resource);
   const ResourceDesc& r = resources_[l->resource];
   const bool image = r.kind == ResourceDesc::Kind::kImage;
-  const int index = copy_index(name);
+  const int index = copy_index(access.resource);
   Copy& copy = copies_[l->resource][static_cast<size_t>(index)];
-  if (copy.image && copy.image->layout() != copy.state.layout) {
-    // Someone else (an upload, a readback) moved the image: start from its own record.
-    copy.state = {copy.image->layout(), copy.image->stage(), copy.image->access()};
-  }
-  const UseState next = use_state(uses, shaders, image, image && is_depth_format(r.format));
-  std::optional<Barrier> b = barrier_for(&copy.state, next, image);
-  if (writes(uses)) copy.written_frame = static_cast<int64_t>(frame);
-  if (!b) return;
-  b->resource = r.history ? fmt::format("{}[{}]", r.name, index) : r.name;
-  if (cmd != VK_NULL_HANDLE) {
-    if (copy.image) {
-      const gpu::ImageDesc& d = copy.image->desc();
-      gpu::image_barrier(cmd, copy.image->handle(), {copy.image->aspect(), 0, d.mips, 0, d.layers},
-                         b->old_layout, b->new_layout, b->src_stages, b->src_access, b->dst_stages,
-                         b->dst_access);
-      copy.image->assume_state(b->new_layout, b->dst_stages, b->dst_access);
-    } else {
-      ILLUM_CHECK(!image || r.external, "image '{}' has no GPU image bound", r.name);
-      if (!image)
-        gpu::memory_barrier(cmd, b->src_stages, b->src_access, b->dst_stages, b->dst_access);
+  const uint32_t levels = levels_of(r, copy), layers = layers_of(r);
+  if (copy.states.size() != static_cast<size_t>(levels) * layers)
+    copy.states.assign(static_cast<size_t>(levels) * layers, ResourceState{});
+  const uint32_t mip0 = access.base_mip, layer0 = access.base_layer;
+  const uint32_t mips =
+      access.mip_count == kAllSubresources ? levels - std::min(mip0, levels) : access.mip_count;
+  const uint32_t layer_count = access.layer_count == kAllSubresources
+                                   ? layers - std::min(layer0, layers)
+                                   : access.layer_count;
+  ILLUM_CHECK(
+      mips >= 1 && mip0 + mips <= levels && layer_count >= 1 && layer0 + layer_count <= layers,
+      "'{}': mips {}+{} and layers {}+{} of {} and {}", access.resource, mip0, mips, layer0,
+      layer_count, levels, layers);
+  const UseState next =
+      use_state(access.uses, access.shaders, image, image && is_depth_format(r.format));
+  // One barrier per subresource that needs one, merged into runs of layers, then of levels,
+  // with the same synchronization: a uniform image still takes a single barrier.
+  std::vector<Barrier> merged;
+  for (uint32_t m = mip0; m < mip0 + mips; ++m)
+    for (uint32_t k = layer0; k < layer0 + layer_count; ++k) {
+      ResourceState& state = copy.states[static_cast<size_t>(m) * layers + k];
+      if (copy.image && copy.image->layout(m, k) != state.layout) {
+        // Someone else (an upload, a readback) moved the image: start from its own record.
+        state = {copy.image->layout(m, k), copy.image->stage(), copy.image->access()};
+      }
+      std::optional<Barrier> b = barrier_for(&state, next, image);
+      if (!b) continue;
+      b->base_mip = m;
+      b->base_layer = k;
+      Barrier* last = merged.empty() ? nullptr : &merged.back();
+      if (last && same_sync(*last, *b) && last->base_mip == m && last->mip_count == 1 &&
+          last->base_layer + last->layer_count == k)
+        ++last->layer_count;
+      else
+        merged.push_back(std::move(*b));
     }
+  std::vector<Barrier> runs;
+  for (Barrier& b : merged) {
+    auto above = std::find_if(runs.begin(), runs.end(), [&](const Barrier& o) {
+      return same_sync(o, b) && o.base_mip + o.mip_count == b.base_mip &&
+             o.base_layer == b.base_layer && o.layer_count == b.layer_count;
+    });
+    if (above != runs.end())
+      ++above->mip_count;
+    else
+      runs.push_back(std::move(b));
   }
-  barriers_.push_back(std::move(*b));
+  if (writes(access.uses)) copy.written_frame = static_cast<int64_t>(frame);
+  for (Barrier& b : runs) {
+    b.resource = r.history ? fmt::format("{}[{}]", r.name, index) : r.name;
+    if (cmd != VK_NULL_HANDLE) {
+      if (copy.image) {
+        const VkImageSubresourceRange range{copy.image->aspect(), b.base_mip, b.mip_count,
+                                            b.base_layer, b.layer_count};
+        gpu::image_barrier(cmd, copy.image->handle(), range, b.old_layout, b.new_layout,
+                           b.src_stages, b.src_access, b.dst_stages, b.dst_access);
+        copy.image->assume_state(range, b.new_layout, b.dst_stages, b.dst_access);
+      } else {
+        ILLUM_CHECK(!image || r.external, "image '{}' has no GPU image bound", r.name);
+        if (!image)
+          gpu::memory_barrier(cmd, b.src_stages, b.src_access, b.dst_stages, b.dst_access);
+      }
+    }
+    barriers_.push_back(std::move(b));
+  }
 }
 
 double FrameGraph::bytes_of(const PassDesc& pass) {
@@ -585,7 +675,15 @@ double FrameGraph::bytes_of(const PassDesc& pass) {
       const double texel = d.format == VK_FORMAT_D32_SFLOAT_S8_UINT  ? 5.0
                            : d.format == VK_FORMAT_D24_UNORM_S8_UINT ? 4.0
                                                                      : gpu::format_bytes(d.format);
-      size = static_cast<double>(d.width) * d.height * d.layers * texel;
+      const uint32_t mip0 = std::min(a.base_mip, d.mips - 1);
+      const uint32_t mip_end =
+          a.mip_count == kAllSubresources ? d.mips : std::min(d.mips, mip0 + a.mip_count);
+      const uint32_t layers = a.layer_count == kAllSubresources
+                                  ? d.layers - std::min(a.base_layer, d.layers - 1)
+                                  : a.layer_count;
+      for (uint32_t m = mip0; m < mip_end; ++m)
+        size += static_cast<double>(std::max(1u, d.width >> m)) * std::max(1u, d.height >> m) *
+                std::max(1u, d.depth >> m) * layers * texel;
     } else if (c.buffer) {
       size = static_cast<double>(c.buffer->size());
     }
@@ -654,7 +752,7 @@ std::vector<std::string> FrameGraph::execute(VkCommandBuffer cmd, uint64_t frame
     for (const Access& a : node.desc.accesses) {
       if (std::find(done.begin(), done.end(), a.resource) != done.end()) continue;
       done.push_back(a.resource);
-      apply(a.resource, frame, cmd, a.uses, a.shaders);
+      apply(a, frame, cmd);
     }
     if (node.desc.record) node.desc.record(ctx);
     ran.push_back(node.desc.name);

@@ -1,16 +1,15 @@
 // The frame graph: what the real-time techniques declare and the renderer runs.
 //
-// * Resources have a name, a size (absolute, or the frame's size divided by an integer), a
-//   format and a usage; the usage is the union of what the passes' declared accesses need
-//   (plus `extra_usage`, e.g. transfer-source for readback). A resource may keep a second
-//   copy of itself (`history`: adaptation, trails, temporal blending): "NAME" is the copy
-//   its writer wrote last and "NAME.previous" the one written before. The copies swap when
-//   the first pass writing NAME runs in a frame, not by frame parity, so a writer scheduled
-//   every N frames leaves its readers the newest copy in between. A writer reads its own
-//   last result through NAME.previous (NAME is the copy it is about to overwrite).
-//   Descriptor sets follow with one set per copy, picked by PassContext::copy(). External
-//   resources are owned by a technique; the graph only tracks their synchronization
-//   state.
+// * Resources have a name, a size (absolute, or the frame's size divided by an integer;
+//   images may be 3-D volumes and carry mip levels and layers), a format and a usage; the usage is
+//   the union of what the passes' declared accesses need (plus `extra_usage`, e.g. transfer-source
+//   for readback). A resource may keep a second copy of itself (`history`: adaptation, trails,
+//   temporal blending): "NAME" is the copy its writer wrote last and "NAME.previous" the one
+//   written before. The copies swap when the first pass writing NAME runs in a frame, not by frame
+//   parity, so a writer scheduled every N frames leaves its readers the newest copy in between. A
+//   writer reads its own last result through NAME.previous (NAME is the copy it is about to
+//   overwrite). Descriptor sets follow with one set per copy, picked by PassContext::copy().
+//   External resources are owned by a technique; the graph only tracks their synchronization state.
 // * Passes run in phase order (shadows, geometry, screen space, lighting, post, display),
 //   in declaration order within a phase; several passes may write one resource (the
 //   G-buffer pass writes the HDR target, the lighting adds to it) and their order is that
@@ -75,15 +74,26 @@ inline constexpr VkPipelineStageFlags2 kFragmentShader = VK_PIPELINE_STAGE_2_FRA
 inline constexpr VkPipelineStageFlags2 kComputeShader = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 inline constexpr VkPipelineStageFlags2 kVertexShader = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT;
 
+inline constexpr uint32_t kAllSubresources = ~0u;
+
 struct Access {
   std::string resource;
   Uses uses = 0;
   // The shader stages of sampled and storage uses.
   VkPipelineStageFlags2 shaders = kFragmentShader | kComputeShader;
+  // Images: the mip levels and layers touched (a 3-D image has one layer); all by default.
+  // Each subresource keeps its own state, so a pass may sample level m − 1 while it writes
+  // level m (a pyramid) and the graph puts one barrier on each level.
+  uint32_t base_mip = 0, mip_count = kAllSubresources;
+  uint32_t base_layer = 0, layer_count = kAllSubresources;
+
+  Access mips(uint32_t base, uint32_t count = 1) const;
+  Access layers(uint32_t base, uint32_t count = 1) const;
+  bool same_range(const Access& other) const;
 };
 
-// Adds `access` to `accesses`, merged into the access of the same resource if there is one
-// (one pass testing the depth read-only and sampling it).
+// Adds `access` to `accesses`, merged into the access of the same resource and range if
+// there is one (one pass testing the depth read-only and sampling it).
 void merge_access(std::vector<Access>* accesses, const Access& access);
 
 // A resource's synchronization state: its layout (images) and the stages and accesses of
@@ -106,6 +116,8 @@ UseState use_state(Uses uses, VkPipelineStageFlags2 shaders, bool image, bool de
 
 struct Barrier {
   std::string resource;  // the physical name ("taa", "taa.previous" resolve to copies)
+  // The subresources it covers (buffers: 0, 1, 0, 1).
+  uint32_t base_mip = 0, mip_count = 1, base_layer = 0, layer_count = 1;
   VkImageLayout old_layout = VK_IMAGE_LAYOUT_UNDEFINED, new_layout = VK_IMAGE_LAYOUT_UNDEFINED;
   VkPipelineStageFlags2 src_stages = VK_PIPELINE_STAGE_2_NONE,
                         dst_stages = VK_PIPELINE_STAGE_2_NONE;
@@ -151,6 +163,8 @@ struct ResourceDesc {
   // (integer division, at least 1).
   uint32_t width = 1, height = 1;
   uint32_t frame_divisor = 0;
+  uint32_t depth = 1;  // > 1: a 3-D image (one layer), sampled trilinearly as sampler3D
+  uint32_t mips = 1;   // 0: the full chain of the size the image gets
   VkFormat format = VK_FORMAT_UNDEFINED;
   uint32_t layers = 1;
   bool cube = false, cube_array = false, array = false;
@@ -181,6 +195,8 @@ class PassContext {
   // next light's rendering scope): the barrier is derived as at the pass's start.
   void use(const std::string& resource, Uses uses,
            VkPipelineStageFlags2 shaders = kFragmentShader | kComputeShader);
+  // The same for part of an image (Access::mips, Access::layers).
+  void use(const Access& access);
   // A nested GPU timer scope, closed when the returned object goes out of scope.
   class Scope {
    public:
@@ -328,7 +344,7 @@ class FrameGraph {
  private:
   friend class PassContext;
   struct Copy {
-    ResourceState state;
+    std::vector<ResourceState> states;  // per subresource (mip * layers + layer)
     gpu::GpuImage* image = nullptr;
     gpu::Buffer* buffer = nullptr;
     int64_t written_frame = -1;
@@ -354,8 +370,10 @@ class FrameGraph {
   void swap_written_history(const PassDesc& pass, uint64_t frame);
   // Bytes of the resources `pass` declares: each read once, each written once.
   double bytes_of(const PassDesc& pass);
-  void apply(const std::string& name, uint64_t frame, VkCommandBuffer cmd, Uses uses,
-             VkPipelineStageFlags2 shaders);
+  void apply(const Access& access, uint64_t frame, VkCommandBuffer cmd);
+  // Mip levels and layers of `resource`'s copy as bound (as declared without a GPU image).
+  uint32_t levels_of(const ResourceDesc& resource, const Copy& copy) const;
+  uint32_t layers_of(const ResourceDesc& resource) const;
   std::vector<int> due_items(Node& node, uint64_t frame);
 
   std::vector<ResourceDesc> resources_;

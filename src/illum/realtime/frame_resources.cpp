@@ -33,6 +33,8 @@ std::vector<std::string> FrameResources::realize(FrameGraph& graph, uint32_t wid
           id.width = w;
           id.height = h;
           id.layers = d.layers;
+          id.depth = d.depth;
+          id.mips = d.mips == 0 ? gpu::mip_chain_length(w, h, d.depth) : d.mips;
           id.format = d.format;
           id.usage = d.usage;
           id.cube = d.cube;
