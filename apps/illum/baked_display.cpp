@@ -128,7 +128,7 @@ BakedDisplay load_baked_display(Scene& scene, const std::vector<std::string>& fo
     baked::require_lightmap_layers(set, "show");
     display.lightmap = realtime::prepare_lightmap_display(scene, set);
   } else if (!prt && scene.lightmap) {
-    (void)embedded_lightmap;  // MUTATION: the file's map ignored
+    display.lightmap = embedded_lightmap(scene);  // a folder given wins over the file's map
   }
   if (prt) {
     baked::PrtSet set = baked::load_prt_set(*prt);
