@@ -11,3 +11,4 @@ cmake --preset release -S "$root" >/dev/null
 cmake --build "$root/build/release" --target illum -j"$(nproc)"
 "$root/build/release/bin/illum" render cornell --integrator path --spp 64 -o cornell.png
 echo "quickstart: wrote $(pwd)/cornell.png"
+echo "quickstart: cmake --install build/release --prefix ~/.local puts illum on PATH (~/.local/bin)"
