@@ -69,6 +69,16 @@ TEST_F(DiskFullTest, AtlasThatDoesNotFitLeavesNothing) {
   EXPECT_LT(fs::file_size(dir_ / "lm" / "preview.png"), 8u * 1024u);
 }
 
+TEST_F(DiskFullTest, ExportThatDoesNotFitLeavesNothing) {
+  ASSERT_EQ(run_limited("bake cornell --resolution 16 --spp 1 --seed 1 -o lm", 1 << 20).exit_code,
+            0);
+  const Result r = run_limited("export cornell --baked lm -o e.glb", 8);
+  expect_bad_input(r, "e.glb");
+  EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+  fs::remove_all(dir_ / "lm");
+  EXPECT_TRUE(left().empty()) << joined(left());
+}
+
 #ifdef ILLUM_HAVE_GPU  // `illum frame` exists only with the GPU layers
 TEST_F(DiskFullTest, TechniqueListingThatDoesNotFitLeavesNothing) {
   const Result r = run_limited("frame --list --json list.json", 1);

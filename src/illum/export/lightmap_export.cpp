@@ -8,6 +8,7 @@
 
 #include "illum/core/color.h"
 #include "illum/core/error.h"
+#include "illum/core/file_write.h"
 #include "illum/core/hdr_encoding.h"
 #include "illum/core/histogram_tone.h"
 #include "illum/core/sh.h"
@@ -25,12 +26,8 @@ fs::path temporary_beside(const fs::path& path, const std::string& suffix) {
 }
 
 void write_bytes(const fs::path& path, const std::vector<uint8_t>& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(fmt::format("{}: cannot open for writing", path.string()));
-  out.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw Error(fmt::format("{}: write failed", path.string()));
+  // Checked to the last byte (core/file_write.h): a full disk is one line with the reason.
+  write_file_atomically(path.string(), bytes);
 }
 
 }  // namespace
