@@ -11,6 +11,18 @@
 
 namespace illum::cli {
 
+namespace {
+
+// Shows `choices` in help as IsMember does, and leaves the refusal of another name to
+// RenderSettings, which says what it is instead ("a frame pipeline, chosen with --technique").
+CLI::Validator listed_choices(const std::vector<std::string>& choices) {
+  std::string set;
+  for (const std::string& c : choices) set += (set.empty() ? "" : ",") + c;
+  return CLI::Validator([](std::string&) { return std::string(); }, "{" + set + "}");
+}
+
+}  // namespace
+
 void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
   using realtime::TechniqueKind;
   const auto* tonemap = realtime::find_technique("tonemap");
@@ -24,10 +36,10 @@ void add_realtime_options(CLI::App* cmd, RealtimeArgs* args) {
   cmd->add_option("--enable", args->enable,
                   "switch add-ons on (NAME[,NAME], repeatable; `illum frame --list` lists them)")
       ->delimiter(',')
-      ->check(CLI::IsMember(add_ons));
+      ->check(listed_choices(add_ons));
   cmd->add_option("--disable", args->disable, "switch add-ons off (NAME[,NAME], repeatable)")
       ->delimiter(',')
-      ->check(CLI::IsMember(add_ons));
+      ->check(listed_choices(add_ons));
   cmd->add_option("--tonemap", args->tonemap, "tone mapper: clamp, reinhard, aces, agx")
       ->check(CLI::IsMember(tonemap->param("operator")->choices))
       ->capture_default_str();
@@ -74,8 +86,17 @@ void check_param_keys(const nlohmann::json& params) {
   for (const auto& [key, value] : params.items()) {
     if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
     const std::string near = nearest_name(key, keys);
-    throw Error(fmt::format("-p {}: unknown parameter{} (`illum frame --list` lists all {})", key,
-                            near.empty() ? "" : fmt::format("; did you mean {}?", near),
+    const std::string hint = near.empty() ? "" : fmt::format("; did you mean {}?", near);
+    // A NAME.key keeps the registry's reason (no technique NAME, or NAME has no key).
+    std::string reason = "unknown parameter";
+    if (key.find('.') != std::string::npos) {
+      try {
+        realtime::param_decl(key);
+      } catch (const Error& e) {
+        reason = e.what();
+      }
+    }
+    throw Error(fmt::format("-p {}: {}{} (`illum frame --list` lists all {})", key, reason, hint,
                             keys.size()));
   }
 }

@@ -90,7 +90,8 @@ TEST_F(ExportCli, BadInputIsOneLineAndWritesNothing) {
   fs::create_directories(dir_ / "dir.glb");
   expect_bad_input(do_export("cornell", lm, dir_ / "dir.glb"), "is a folder");
   // Options.
-  expect_bad_input(do_export("cornell", lm, out, "--tone aces"), "--tone 'aces'");
+  expect_bad_input(do_export("cornell", lm, out, "--tone aces"),
+                   "--tone: aces not in {none,lrp97}");
   expect_bad_input(do_export("cornell", lm, out, "--rgbm-range -1"), "--rgbm-range");
   expect_bad_input(do_export("cornell", lm, out, "--rgbm-range nan"), "--rgbm-range");
   expect_only({"lm", "moved.illum.json", "empty", "broken", "dir.glb", "stdout.txt", "stderr.txt"});
