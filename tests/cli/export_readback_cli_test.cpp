@@ -164,6 +164,28 @@ TEST_F(ExportReadbackCli, FrameShowsTheLightmapAsTheBakeFolderDoes) {
   EXPECT_GT(far, 4.0 * tolerance_sum) << "the .glb frame is as close to the unlit frame";
 }
 
+// `illum view` (its headless fallback) goes the same way: the .glb's picture is the bake
+// folder's, not the unlit scene's. 8-bit PNGs under auto exposure, so the check is relative:
+// ten times closer to the folder's picture than to the unlit one, per channel mean.
+TEST_F(ExportReadbackCli, ViewShowsTheLightmap) {
+  const fs::path folder = bake("lm", "--spp 4");
+  const fs::path glb = do_export(folder, "e.glb");
+  const auto view = [&](const std::string& scene, const std::string& name) {
+    const fs::path out = dir_ / name;
+    const Result r =
+        run("view " + scene + " --close-after-frames 1 --fallback-output " + out.string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return means(illum::read_image(out.string(), true));
+  };
+  const Means g = view(glb.string(), "glb.png");
+  const Means f = view("cornell --baked " + folder.string(), "folder.png");
+  const Means u = view("cornell", "unlit.png");
+  for (int c = 0; c < 3; ++c)
+    EXPECT_LT(10.0 * std::abs(g.c[c] - f.c[c]), std::abs(g.c[c] - u.c[c]))
+        << "channel " << c << ": " << g.c[c] << " (glb) " << f.c[c] << " (folder) " << u.c[c]
+        << " (unlit)";
+}
+
 TEST_F(ExportReadbackCli, EveryExportedBasisReadsBackAndToneMappedMapsAreRefused) {
   for (const std::string basis : {"plain", "rnm", "sh", "dominant"}) {
     const fs::path glb = do_export(bake(basis, "--spp 1 --basis " + basis), basis + ".glb");
