@@ -8,6 +8,7 @@
 #include <string>
 
 #include "illum/core/progress.h"
+#include "illum/core/work_split.h"
 
 namespace illum {
 namespace {
@@ -89,6 +90,33 @@ TEST(Progress, LinesWhenStderrIsNotATerminal) {
   EXPECT_NE(out.find("\nbake: 100% in "), std::string::npos) << out;
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
   EXPECT_EQ(quiet, "");
+}
+
+// Under mpirun every rank counts its share, and only rank 0 reports: another rank's lines
+// would repeat its own.
+TEST(Progress, OnlyRankZeroReports) {
+  struct Rank : WorkSplit {
+    int id = 0;
+    int ranks() const override { return 2; }
+    int rank() const override { return id; }
+    int threads_per_rank() const override { return 1; }
+    void run(int64_t, size_t, int, const UnitWork&, const UnitKeep&) override {}
+  };
+  Rank rank;
+  std::string said[2];
+  for (int id : {0, 1}) {
+    rank.id = id;
+    const ScopedWorkSplit installed(&rank);
+    testing::internal::CaptureStderr();
+    {
+      Progress progress("bake", 4, /*enabled=*/true, Progress::Style::kBar);
+      for (int i = 0; i < 4; ++i) progress.advance();
+      EXPECT_EQ(progress.done(), 4);
+    }
+    said[id] = testing::internal::GetCapturedStderr();
+  }
+  EXPECT_NE(said[0].find("100.0%"), std::string::npos) << said[0];
+  EXPECT_EQ(said[1], "");
 }
 
 }  // namespace
