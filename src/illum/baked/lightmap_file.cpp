@@ -289,20 +289,7 @@ LightmapSet load_lightmap_set(const fs::path& folder) {
   std::vector<std::string> names;
   for (const nlohmann::json& layer : layers) names.push_back(manifest.file_name("layers", layer));
   // Types and ranges first, so a wrong one is named as such rather than as a mismatch.
-  const uint64_t width = manifest.integer("width", 1, kMaxManifestAtlasSize);
-  const uint64_t height = manifest.integer("height", 1, kMaxManifestAtlasSize);
-  const uint64_t charts = manifest.integer("charts", 0, kMaxManifestCharts);
-  const double texel_size = manifest.number("texel_size", 0.0, kMaxManifestTexelSize, true);
-  set.atlas = atlas::load_atlas(folder / manifest.file_name("atlas"));
-  // The recorded size, chart count and texel size must be the atlas's: a manifest beside
-  // another folder's atlas.bin is refused, not shown with the wrong coordinates.
-  manifest.expect_same("width", width, uint64_t(set.atlas.width), "the atlas");
-  manifest.expect_same("height", height, uint64_t(set.atlas.height), "the atlas");
-  manifest.expect_same("charts", charts, uint64_t(set.atlas.chart_count), "the atlas");
-  if (float(texel_size) != set.atlas.texel_size)
-    manifest.fail(fmt::format(
-        "'texel_size' is {}, but the atlas says {} (an atlas.bin of another bake); bake it again",
-        texel_size, set.atlas.texel_size));
+  set.atlas = read_manifest_atlas(manifest, folder);
   for (const std::string& name : names) {
     // The reader refuses malformed, oversized and non-finite (NaN/Inf) files, naming them.
     Image layer = read_image((folder / name).string(), false);

@@ -122,4 +122,21 @@ const nlohmann::json& ManifestFields::free_object(const char* key) const {
   return v;
 }
 
+atlas::Atlas read_manifest_atlas(const ManifestFields& manifest,
+                                 const std::filesystem::path& folder) {
+  const uint64_t width = manifest.integer("width", 1, kMaxManifestAtlasSize);
+  const uint64_t height = manifest.integer("height", 1, kMaxManifestAtlasSize);
+  const uint64_t charts = manifest.integer("charts", 0, kMaxManifestCharts);
+  const double texel_size = manifest.number("texel_size", 0.0, kMaxManifestTexelSize, true);
+  atlas::Atlas atlas = atlas::load_atlas(folder / manifest.file_name("atlas"));
+  manifest.expect_same("width", width, uint64_t(atlas.width), "the atlas");
+  manifest.expect_same("height", height, uint64_t(atlas.height), "the atlas");
+  manifest.expect_same("charts", charts, uint64_t(atlas.chart_count), "the atlas");
+  if (float(texel_size) != atlas.texel_size)
+    manifest.fail(fmt::format(
+        "'texel_size' is {}, but the atlas says {} (an atlas.bin of another bake); bake it again",
+        texel_size, atlas.texel_size));
+  return atlas;
+}
+
 }  // namespace illum::baked

@@ -7,10 +7,13 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <initializer_list>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "illum/atlas/atlas.h"
 
 namespace illum::baked {
 
@@ -67,5 +70,12 @@ class ManifestFields {
   const nlohmann::json* json_;
   std::string where_, prefix_;
 };
+
+// The atlas file the manifest names ('atlas'), with the manifest's 'width', 'height',
+// 'charts' and 'texel_size' checked first by type and range, then against the atlas: a
+// manifest beside another folder's atlas.bin is refused, not shown with the wrong
+// coordinates.
+atlas::Atlas read_manifest_atlas(const ManifestFields& manifest,
+                                 const std::filesystem::path& folder);
 
 }  // namespace illum::baked

@@ -198,18 +198,7 @@ PrtSet load_prt_set(const fs::path& folder) {
   set.scene_triangles = manifest.integer("scene_triangles", 0, kMaxManifestTriangles);
   set.scene_hash = manifest.scene_hash("scene_hash");
   if (manifest.has("bake")) set.bake = manifest.free_object("bake");
-  const uint64_t width = manifest.integer("width", 1, kMaxManifestAtlasSize);
-  const uint64_t height = manifest.integer("height", 1, kMaxManifestAtlasSize);
-  const uint64_t charts = manifest.integer("charts", 0, kMaxManifestCharts);
-  const double texel_size = manifest.number("texel_size", 0.0, kMaxManifestTexelSize, true);
-  set.atlas = atlas::load_atlas(folder / manifest.file_name("atlas"));
-  manifest.expect_same("width", width, uint64_t(set.atlas.width), "the atlas");
-  manifest.expect_same("height", height, uint64_t(set.atlas.height), "the atlas");
-  manifest.expect_same("charts", charts, uint64_t(set.atlas.chart_count), "the atlas");
-  if (float(texel_size) != set.atlas.texel_size)
-    manifest.fail(fmt::format(
-        "'texel_size' is {}, but the atlas says {} (an atlas.bin of another bake); bake it again",
-        texel_size, set.atlas.texel_size));
+  set.atlas = read_manifest_atlas(manifest, folder);
   const uint32_t channels = uint32_t(3 * coefficients);
   if (manifest.has("texels")) {
     const uint64_t points = uint64_t(set.atlas.width) * uint64_t(set.atlas.height);
