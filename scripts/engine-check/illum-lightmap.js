@@ -1,8 +1,8 @@
 // A GLTFLoader plugin that shows the light-map of an `illum export` .glb in three.js.
 //
 // illum writes the light-map as an RGBM PNG (linear bytes, value = rgb · a · range, range in
-// the material's MSFT_lightmap extras) holding E/π on TEXCOORD_1 (docs/lightmaps.md,
-// "Export to glTF"). three.js's lightMap is irradiance E, which its Lambert term divides by
+// the material's MSFT_lightmap extras) holding E/π on TEXCOORD_1
+// (docs/lightmap-export.md). three.js's lightMap is irradiance E, which its Lambert term divides by
 // π, so the plugin sets lightMapIntensity = π and decodes RGBM in the shader.
 //
 // The map's light is added as Lambertian diffuse, albedo × E/π, the model the bake and illum's

@@ -187,6 +187,16 @@ TEST_F(DocsClaims, LightmapPageCommandsRunAsShown) {
   run_documented(fenced_commands(slurp(kSource / "docs/lightmaps.md")), "docs/lightmaps.md");
 }
 
+TEST_F(DocsClaims, LightmapRadiosityPageCommandsRunAsShown) {
+  run_documented(fenced_commands(slurp(kSource / "docs/lightmap-radiosity.md")),
+                 "docs/lightmap-radiosity.md");
+}
+
+TEST_F(DocsClaims, LightmapExportPageCommandsRunAsShown) {
+  run_documented(fenced_commands(slurp(kSource / "docs/lightmap-export.md")),
+                 "docs/lightmap-export.md");
+}
+
 TEST_F(DocsClaims, ImageCommandsRunAsShown) {
   run_documented(inline_commands(slurp(kSource / "docs/images/README.md")),
                  "docs/images/README.md");

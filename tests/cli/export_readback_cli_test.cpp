@@ -134,7 +134,7 @@ TEST_F(ExportReadbackCli, FrameShowsTheLightmapAsTheBakeFolderDoes) {
 
   // The bound. Both frames show albedo × bilinear(map) (+ emission) on the same geometry:
   // the folder's map in float, the file's decoded from RGBM, each texel within half an 8-bit
-  // step at its multiplier, at most 0.5/255·(1 + 1/255)·M (docs/lightmaps.md). Bilinear
+  // step at its multiplier, at most 0.5/255·(1 + 1/255)·M (docs/lightmap-export.md). Bilinear
   // weights are convex and albedo ≤ 1, so a pixel differs by at most that, plus the half
   // floats the map is uploaded in and the EXR is written in (2^-11 relative each, on both
   // sides: 2^-9 of the value).
