@@ -22,6 +22,7 @@
 
 #include "illum/core/color.h"
 #include "illum/realtime/frame_graph.h"
+#include "illum/realtime/lighting_inputs.h"
 
 namespace illum {
 class Image;
@@ -115,12 +116,16 @@ class Technique {
   // Each frame before recording: uniforms from the camera, lights and parameter values.
   virtual void update() {}
 
-  // Shading sets: a technique whose data the lighting shaders read binds its own set at a
-  // fixed slot of the shading pipeline layout (frame_globals.h: kShadowSet, kBakedSet) and
-  // names the resources sampled through it (the shadow maps).
+  // The shadow method's set: bound at kShadowSet of the shading pipeline layout
+  // (frame_globals.h), with the resources sampled through it (the shadow maps). Only the
+  // active shadow method fills that slot.
   virtual int shading_slot() const { return -1; }
   virtual VkDescriptorSet shading_set() const { return VK_NULL_HANDLE; }
   virtual std::vector<std::string> shading_reads() const { return {}; }
+  // What the technique adds to the lighting inputs (set 4, lighting_inputs.h): light or
+  // occlusion every frame pipeline's ambient term gathers. Asked when the frame is
+  // assembled; each contribution's writer runs after bind().
+  virtual std::vector<LightingContribution> lighting_inputs() const { return {}; }
 
  protected:
   template <typename T>
