@@ -1,19 +1,28 @@
 #version 450
-// Screen-space ambient occlusion with Méndez's term (S001 §4.3, ALGORITHMS.md item 26): N
-// directions ω uniform over the hemisphere around the normal (stratified in cos θ, a random
-// azimuth per pixel and direction), each marched from the surface point p to the radius R
-// in `steps` jittered steps; the first step that falls behind the depth buffer (within the
-// thickness R) is refined by bisection to the hit distance t, and the direction adds
+// Screen-space ambient occlusion with Méndez's term (S001 §4.3, ALGORITHMS.md item 26), one
+// estimate per texel of the plane pyramid's level 0 (every pixel, or at half resolution one
+// representative pixel of each 2×2): N directions ω uniform over the hemisphere around the
+// normal (stratified in cos θ; azimuths on a golden-angle sequence turned per pixel by a 4×4
+// interleaved rotation), each marched from the surface point p to the radius R in `steps`
+// jittered steps; the first step that falls behind the visible surface (within the
+// thickness R) ends the march at the hit distance t, and the direction adds
 //   saturate(N·ω − b) / (1 + (t/s)²).
 // With the uniform pdf 1/2π the occlusion O = (2/N) Σ terms estimates
 //   (1/π) ∫ V_R(ω) max(cos θ − b, 0) / (1 + (t/s)²) dω,
 // the estimand of the offline `ao` integrator with bias b and falloff s; AO = 1 − k·O.
-// The surface behind a step's pixel is its depth-buffer point extended along that point's
-// geometric normal to the step's camera ray, so planar occluders are compared at sub-pixel
-// precision (no self-occlusion from the depth buffer's stair steps).
+// The visible surface behind a step is the plane of the pyramid texel under it (near steps
+// read level 0, farther ones coarser levels, so wide radii stay in the cache) extended to the
+// step's camera ray: planar occluders are compared at sub-pixel precision, and the hit is
+// where the ray crosses that plane (exact for planes; bisection where the crossing lies
+// outside the last step, at edges). Steps are projected incrementally: clip(p + tω) =
+// clip(p) + t·clip(ω).
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "ssao_set.glsl"
 layout(set = 2, binding = 4, r32f) uniform writeonly image2D ao_out;
+
+// Taps nearer than 2^kDenseLog2 level-0 texels read level 0; each doubling of the distance one
+// level coarser (SAO's rule).
+const int kDenseLog2 = 3;
 
 uint hash(uint x) {  // PCG-style integer hash
   x = x * 747796405u + 2891336453u;
@@ -25,71 +34,95 @@ float random(inout uint state) {
   return float(state >> 8) * (1.0 / 16777216.0);
 }
 
-// 1: q lies behind the visible surface (within the thickness R); 0: in front of it or the
-// pixel shows the sky; −1: q is off screen or behind the camera (screen space knows nothing
-// there: the march ends unoccluded).
-int behind(vec3 q, float radius) {
-  vec4 clip = frame.view_proj * vec4(q, 1.0);
+// 1: the point q (clip: its clip-space position, qo = q − camera) lies behind the visible
+// surface within the thickness R; 0: in front of it or the pixel shows the sky; −1: q is off
+// screen or behind the camera (screen space knows nothing there: the march ends unoccluded).
+// n, plane_d: the plane it was compared with (dot(x − o, n) = plane_d).
+int behind(vec4 clip, vec3 qo, float radius, vec2 origin, out vec3 n, out float plane_d) {
+  n = vec3(0.0);
+  plane_d = 0.0;
   if (clip.w <= 0.0) return -1;
   vec2 ndc = clip.xy / clip.w;
   if (any(greaterThan(abs(ndc), vec2(1.0)))) return -1;
-  ivec2 pixel = min(ivec2((ndc * 0.5 + 0.5) * frame.extent.xy), ivec2(frame.extent.xy) - 1);
-  float depth = texelFetch(ssao_depth, pixel, 0).r;
-  if (depth >= 1.0) return 0;
-  vec3 s = ssao_position(vec2(pixel) + 0.5, depth);
-  vec3 o = frame.camera_pos.xyz;
-  float dist_q = distance(o, q);
-  vec3 ray = (q - o) / dist_q;
-  float dist_s = distance(o, s);
-  vec3 n = ssao_geometric_normal(pixel);
-  float cos_ray = dot(ray, n);
-  // Along q's camera ray to the plane through s (grazing planes: s's own distance).
-  float along = abs(cos_ray) > 0.05 ? dot(s - o, n) / cos_ray : dist_s;
-  // No farther from s than four pixel footprints (2d/(H·|P11|) each): a plane seen edge-on
-  // or another surface's texel would otherwise move it arbitrarily.
-  float footprint = 8.0 * dist_s * frame.extent.w / max(abs(frame.proj[1][1]), 1e-6);
+  vec2 px = (ndc * 0.5 + 0.5) * frame.extent.xy / float(ssao.grid.x);  // level-0 texels
+  int level = clamp(int(log2(max(length(px - origin), 1.0))) - kDenseLog2, 0, ssao.grid.y - 1);
+  ivec2 size = max(ssao.grid.zw >> level, ivec2(1));
+  uvec4 v = texelFetch(ssao_planes, min(ivec2(px) >> level, size - 1), level);
+  float dist_s = uintBitsToFloat(v.x);
+  if (dist_s < 0.0) return 0;
+  n = ssao_unpack_normal(v.z);
+  plane_d = uintBitsToFloat(v.y);
+  float dist_q = length(qo);
+  float cos_ray = dot(qo, n) / dist_q;
+  // Along q's camera ray to the plane (grazing planes: the texel's own distance).
+  float along = abs(cos_ray) > 0.05 ? plane_d / cos_ray : dist_s;
+  // No farther from the texel's point than four of its footprints (one pixel's is
+  // 2d/(H·|P11|)): a plane seen edge-on or another surface's texel would otherwise move it
+  // arbitrarily.
+  float footprint = 8.0 * dist_s * frame.extent.w / max(abs(frame.proj[1][1]), 1e-6) *
+                    float(ssao.grid.x << level);
   along = clamp(along, dist_s - footprint, dist_s + footprint);
   float eps = 1e-4 * dist_q;
   return along < dist_q - eps && dist_q - along < radius ? 1 : 0;
 }
 
+// Ranks of the 4×4 Bayer matrix: neighbouring pixels' rotations differ most.
+const uint kBayer[16] = uint[](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, ivec2(frame.extent.xy)))) return;
-  float depth = texelFetch(ssao_depth, pixel, 0).r;
-  if (depth >= 1.0) {
-    imageStore(ao_out, pixel, vec4(1.0));
+  ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(texel, ssao.grid.zw))) return;
+  uvec4 v = texelFetch(ssao_planes, texel, 0);
+  if (uintBitsToFloat(v.x) < 0.0) {
+    imageStore(ao_out, texel, vec4(1.0));
     return;
   }
-  vec3 p = ssao_position(vec2(pixel) + 0.5, depth);
-  vec3 n = oct_decode(texelFetch(ssao_normals, pixel, 0).xy);
+  ivec2 pixel = ssao_representative(texel);
+  vec3 p = ssao_position(vec2(pixel) + 0.5, texelFetch(ssao_depth, pixel, 0).r);
+  vec3 n = ssao_unpack_normal(v.w);  // the shading normal
   vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
   vec3 b = cross(n, t);
   float radius = ssao.shape.x, bias = ssao.shape.y, falloff = ssao.shape.w;
   int directions = ssao.info.x, steps = ssao.info.z;
   uint state = hash(uint(pixel.x) * 1973u + hash(uint(pixel.y) * 9277u));
+  // Each azimuth stays uniform (the rotation is uniform over the circle: a Bayer rank jittered
+  // within its sixteenth), and a pixel's azimuths are spread by the golden angle.
+  float rotation = (float(kBayer[(texel.y & 3) * 4 + (texel.x & 3)]) + random(state)) / 16.0;
+  vec2 origin = (vec2(pixel) + 0.5) / float(ssao.grid.x);
+  vec3 po = p - frame.camera_pos.xyz;
+  vec4 clip_p = frame.view_proj * vec4(p, 1.0);
   float sum = 0.0;
   for (int i = 0; i < directions; ++i) {
     float cos_theta = (float(i) + random(state)) / float(directions);
-    float phi = 2.0 * kPi * random(state);
+    float phi = 2.0 * kPi * fract(rotation + 0.6180339887 * float(i));
     float jitter = random(state);
     float term = clamp(cos_theta - bias, 0.0, 1.0);
     if (term <= 0.0) continue;  // adds nothing whatever it hits
     float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     vec3 w = (t * cos(phi) + b * sin(phi)) * sin_theta + n * cos_theta;
+    vec4 clip_w = frame.view_proj * vec4(w, 0.0);
     float free_t = 0.0;
     for (int j = 0; j <= steps; ++j) {
       float step_t = radius * min((float(j) + jitter) / float(steps), 1.0);
-      int r = behind(p + w * step_t, radius);
+      vec3 hn;
+      float hd;
+      int r = behind(clip_p + step_t * clip_w, po + w * step_t, radius, origin, hn, hd);
       if (r < 0) break;
       if (r == 0) {
         free_t = step_t;
         continue;
       }
-      float lo = free_t, hi = step_t;  // bisection: lo in front, hi behind
-      for (int k = 0; k < 5; ++k) {
-        float mid = 0.5 * (lo + hi);
-        if (behind(p + w * mid, radius) == 1) hi = mid; else lo = mid;
+      float lo = free_t, hi = step_t;  // lo in front, hi behind
+      float wn = dot(w, hn);
+      float t_plane = wn < 0.0 ? (hd - dot(po, hn)) / wn : -1.0;
+      if (t_plane >= lo && t_plane <= hi) {
+        hi = t_plane;
+      } else {
+        for (int k = 0; k < 5; ++k) {
+          float mid = 0.5 * (lo + hi);
+          if (behind(clip_p + mid * clip_w, po + w * mid, radius, origin, hn, hd) == 1) hi = mid;
+          else lo = mid;
+        }
       }
       float d = falloff > 0.0 ? hi / falloff : 0.0;
       sum += term / (1.0 + d * d);
@@ -97,5 +130,5 @@ void main() {
     }
   }
   float occlusion = 2.0 * sum / float(directions);
-  imageStore(ao_out, pixel, vec4(clamp(1.0 - ssao.shape.z * occlusion, 0.0, 1.0)));
+  imageStore(ao_out, texel, vec4(clamp(1.0 - ssao.shape.z * occlusion, 0.0, 1.0)));
 }

@@ -1,37 +1,60 @@
 #version 450
-// Depth-aware blur of the raw SSAO: a (2r+1)² box over pixels on the same surface — a
-// neighbour counts with weight exp(−(Δ/σ)²)·max(n·n_i, 0)⁸, Δ its distance from this pixel's
-// tangent plane and σ = R/10 — so occlusion does not bleed across silhouettes or creases.
-// r = 0 copies.
+// The raw SSAO (one value per plane-pyramid texel: every pixel, or one of each 2×2 at half
+// resolution) to the full-resolution AO: a depth-aware (bilateral) gather over the texels
+// around the pixel's own — a neighbour counts with weight exp(−(Δ/σ)²)·max(n·n_i, 0)⁸, Δ the
+// pixel's distance from the texel's plane and σ = R/10 — so occlusion neither bleeds across
+// silhouettes or creases nor is taken from another surface when upsampling.
+// Blur radius r (pixels): a (2r'+1)² window of texels, r' = r at full resolution, ⌈r/2⌉ at
+// half. r = 0: no blur — full resolution copies; half resolution takes the pixel's own texel
+// where it lies on the pixel's surface, else the best-weighted of its 3×3 neighbours.
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "ssao_set.glsl"
 layout(set = 2, binding = 4, r32f) uniform writeonly image2D ao_out;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(frame.extent.xy);
-  if (any(greaterThanEqual(pixel, size))) return;
-  float ao = texelFetch(ssao_source, pixel, 0).r;
-  float depth = texelFetch(ssao_depth, pixel, 0).r;
+  if (any(greaterThanEqual(pixel, ivec2(frame.extent.xy)))) return;
+  int divisor = ssao.grid.x;
+  ivec2 size = ssao.grid.zw;
+  ivec2 own = min(pixel / divisor, size - 1);
   int r = ssao.info.y;
-  if (r == 0 || depth >= 1.0) {
-    imageStore(ao_out, pixel, vec4(ao));
+  float depth = texelFetch(ssao_depth, pixel, 0).r;
+  if (depth >= 1.0) {
+    imageStore(ao_out, pixel, vec4(1.0));
+    return;
+  }
+  if (r == 0 && divisor == 1) {
+    imageStore(ao_out, pixel, vec4(texelFetch(ssao_source, own, 0).r));
     return;
   }
   vec3 p = ssao_position(vec2(pixel) + 0.5, depth);
-  vec3 n = ssao_geometric_normal(pixel);
-  float sigma = 0.1 * ssao.shape.x;
-  float sum = 0.0, weights = 0.0;
-  for (int y = -r; y <= r; ++y)
-    for (int x = -r; x <= r; ++x) {
-      ivec2 q = pixel + ivec2(x, y);
+  vec3 n = ssao_geometric_normal(pixel, p, depth);
+  vec3 po = p - frame.camera_pos.xyz;
+  float inv_sigma = 10.0 / ssao.shape.x;
+  int reach = r == 0 ? 1 : (divisor == 1 ? r : (r + 1) / 2);
+  float sum = 0.0, weights = 0.0, best = -1.0, best_ao = texelFetch(ssao_source, own, 0).r;
+  for (int y = -reach; y <= reach; ++y)
+    for (int x = -reach; x <= reach; ++x) {
+      ivec2 q = own + ivec2(x, y);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      float dq = texelFetch(ssao_depth, q, 0).r;
-      if (dq >= 1.0) continue;
-      float delta = dot(n, ssao_position(vec2(q) + 0.5, dq) - p) / sigma;
-      float w = exp(-delta * delta) * pow(max(dot(n, ssao_geometric_normal(q)), 0.0), 8.0);
-      sum += w * texelFetch(ssao_source, q, 0).r;
+      uvec4 v = texelFetch(ssao_planes, q, 0);
+      if (uintBitsToFloat(v.x) < 0.0) continue;
+      vec3 nq = ssao_unpack_normal(v.z);
+      float delta = (dot(po, nq) - uintBitsToFloat(v.y)) * inv_sigma;
+      float w = exp(-delta * delta) * pow(max(dot(n, nq), 0.0), 8.0);
+      float a = texelFetch(ssao_source, q, 0).r;
+      if (r == 0) {
+        if (q == own && w >= 0.5) {  // the pixel's own texel, on its surface
+          best = 2.0;
+          best_ao = a;
+        } else if (w > best) {
+          best = w;
+          best_ao = a;
+        }
+        continue;
+      }
+      sum += w * a;
       weights += w;
     }
-  imageStore(ao_out, pixel, vec4(weights > 0.0 ? sum / weights : ao));
+  imageStore(ao_out, pixel, vec4(r == 0 || weights <= 0.0 ? best_ao : sum / weights));
 }

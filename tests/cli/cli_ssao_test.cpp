@@ -15,14 +15,16 @@ TEST_F(CliSsao, ListedWithEveryParameter) {
   const Result r = run("frame --list");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("  ssao (off by default): "), std::string::npos) << r.out;
-  for (const char* key : {"radius", "bias", "intensity", "falloff", "samples", "blur", "output"})
+  for (const char* key :
+       {"radius", "bias", "intensity", "falloff", "samples", "blur", "output", "resolution"})
     EXPECT_NE(r.out.find(std::string("    ssao.") + key + "  "), std::string::npos) << key;
 }
 
 TEST_F(CliSsao, BadValuesAreOneLineExitTwo) {
-  for (const std::string p : {"ssao.radius=-1", "ssao.bias=1", "ssao.bias=nan", "ssao.intensity=11",
-                              "ssao.falloff=-0.5", "ssao.samples=0", "ssao.samples=257",
-                              "ssao.blur=9", "ssao.output=normals", "ssao.radius=far"}) {
+  for (const std::string p :
+       {"ssao.radius=-1", "ssao.bias=1", "ssao.bias=nan", "ssao.intensity=11", "ssao.falloff=-0.5",
+        "ssao.samples=0", "ssao.samples=257", "ssao.blur=9", "ssao.output=normals",
+        "ssao.radius=far", "ssao.resolution=quarter"}) {
     const Result r =
         run("frame cornell --enable ssao -p " + p + " -o " + (dir_ / "f.png").string());
     expect_bad_input(r, p.substr(0, p.find('=')));

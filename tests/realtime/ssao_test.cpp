@@ -1,6 +1,7 @@
 // The SSAO add-on (docs/realtime.md "SSAO") on lavapipe under the validation layer:
 // * against the offline `ao` integrator with the same estimand (radius, bias, falloff) on the
-//   Cornell box, per 8×8 tile of visible pixels where screen space can know the answer;
+//   Cornell box, per 8×8 tile of visible pixels where screen space can know the answer, at
+//   half and full estimator resolution;
 // * never darkens direct light, and scales exactly the indirect term;
 // * switched off, the frame is the frame without it (byte for byte, also after a toggle);
 // * the combine rule with a baked AO layer (minimum) in the shader's own function.
@@ -10,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <utility>
 
 #include "illum/core/image.h"
 #include "illum/core/parallel.h"
@@ -51,7 +53,7 @@ double normal_quantile_upper(double p) {
   return 0.5 * (lo + hi);
 }
 
-Image ssao_buffer(const Scene& scene, const std::string& pipeline) {
+Image ssao_buffer(const Scene& scene, const std::string& pipeline, const std::string& resolution) {
   RenderSettings o;
   o.width = o.height = kSize;
   o.pipeline = pipeline;
@@ -62,7 +64,8 @@ Image ssao_buffer(const Scene& scene, const std::string& pipeline) {
   o.set("ssao.bias", kBias);
   o.set("ssao.falloff", kFalloff);
   o.set("ssao.samples", kDirections);
-  o.set("ssao.blur", 0);  // independent pixels: the tile statistics below assume them
+  o.set("ssao.blur", 0);  // independent estimates: the tile statistics below assume them
+  o.set("ssao.resolution", resolution);
   Renderer r(context(), scene, o);
   r.render(*scene.camera);
   return r.hdr();
@@ -178,20 +181,42 @@ TEST_F(SsaoTest, MatchesTheOfflineAoEstimandOnTheCornellBox) {
   const double o_max = (kDirections + 1.0) / kDirections;
   const double allowance =
       o_max * lipschitz * kRadius / 256.0 + o_max * 1e-3 + std::ldexp(1.0, -11);
-  for (const std::string pipeline : {"forward", "deferred"}) {
-    const Image ao = ssao_buffer(scene, pipeline);
-    // Paired per pixel: d = SSAO − offline. Both are independent estimates of the same
-    // pixel's AO, so d's spread over a tile is their noise (plus how their biases vary),
-    // not the AO's variation across the tile.
+  for (const auto& [pipeline, resolution] : {std::pair<std::string, std::string>{"forward", "half"},
+                                             {"deferred", "half"},
+                                             {"forward", "full"},
+                                             {"deferred", "full"}}) {
+    const std::string name = pipeline + "/" + resolution;
+    const Image ao = ssao_buffer(scene, pipeline, resolution);
+    // Paired per estimate: d = SSAO − offline, one unit per SSAO estimate — a pixel at full
+    // resolution, a 2×2 block at half (without blur its pixels on the estimate's surface
+    // take that one estimate), its offline value the mean over the unit's compared pixels.
+    // Both are independent estimates of the unit's AO, so d's spread over a tile is their
+    // noise (plus how their biases vary), not the AO's variation across the tile.
+    const int unit = resolution == "half" ? 2 : 1;
+    const int units = kSize / unit;
+    struct Unit {
+      double n = 0, a = 0, b = 0;
+    };
+    std::vector<Unit> per_unit(units * units);
     struct Tile {
-      double n = 0, s = 0, o = 0, d = 0, d2 = 0;
+      double pixels = 0, n = 0, s = 0, o = 0, d = 0, d2 = 0;
     };
     std::vector<Tile> tiles((kSize / kTile) * (kSize / kTile));
     for (int y = 0; y < kSize; ++y)
       for (int x = 0; x < kSize; ++x) {
         if (!complete[y * kSize + x]) continue;
-        Tile& t = tiles[(y / kTile) * (kSize / kTile) + x / kTile];
-        const double a = ao.pixel(x, y)[0], b = offline.pixel(x, y)[0];
+        Unit& u = per_unit[(y / unit) * units + x / unit];
+        u.n += 1;
+        u.a += ao.pixel(x, y)[0];
+        u.b += offline.pixel(x, y)[0];
+        tiles[(y / kTile) * (kSize / kTile) + x / kTile].pixels += 1;
+      }
+    for (int uy = 0; uy < units; ++uy)
+      for (int ux = 0; ux < units; ++ux) {
+        const Unit& u = per_unit[uy * units + ux];
+        if (u.n == 0) continue;
+        Tile& t = tiles[(uy * unit / kTile) * (kSize / kTile) + ux * unit / kTile];
+        const double a = u.a / u.n, b = u.b / u.n;
         t.n += 1;
         t.s += a;
         t.o += b;
@@ -199,30 +224,30 @@ TEST_F(SsaoTest, MatchesTheOfflineAoEstimandOnTheCornellBox) {
         t.d2 += (a - b) * (a - b);
       }
     int compared = 0, occluded = 0;
-    for (const Tile& t : tiles) compared += t.n >= 16;
+    for (const Tile& t : tiles) compared += t.pixels >= 16 && t.n >= 4;
     // One family of checks at kFamilyFalseAlarm = 1e-4 (Bonferroni, two-sided).
     const double z = normal_quantile_upper(1e-4 / (2.0 * compared));
     double worst = 0.0;
     for (size_t i = 0; i < tiles.size(); ++i) {
       const Tile& t = tiles[i];
-      if (t.n < 16) continue;
+      if (t.pixels < 16 || t.n < 4) continue;
       const double ms = t.s / t.n, mo = t.o / t.n, md = t.d / t.n;
       const double vd = std::max(t.d2 / t.n - md * md, 0.0) * t.n / (t.n - 1);
       const double tol = z * std::sqrt(vd / t.n) + allowance;
       worst = std::max(worst, std::abs(ms - mo) / tol);
       if (mo < 0.95) ++occluded;
-      EXPECT_NEAR(ms, mo, tol) << pipeline << ": tile " << i % (kSize / kTile) << ", "
-                               << i / (kSize / kTile) << " (" << t.n << " pixels)";
+      EXPECT_NEAR(ms, mo, tol) << name << ": tile " << i % (kSize / kTile) << ", "
+                               << i / (kSize / kTile) << " (" << t.n << " estimates)";
     }
     std::printf(
         "%s: %d tiles compared (%d with offline AO < 0.95), z = %.2f, allowance %.4f, "
         "worst |difference| / tolerance %.3f\n",
-        pipeline.c_str(), compared, occluded, z, allowance, worst);
+        name.c_str(), compared, occluded, z, allowance, worst);
     // The comparison must reach the occluded regions (corners, the blocks' feet), not only
     // the open walls.
-    EXPECT_GE(compared, 60) << pipeline;
-    EXPECT_GE(occluded, 15) << pipeline;
-    if (const char* dir = std::getenv("ILLUM_SSAO_IMAGES"); dir && pipeline == "deferred") {
+    EXPECT_GE(compared, 60) << name;
+    EXPECT_GE(occluded, 15) << name;
+    if (const char* dir = std::getenv("ILLUM_SSAO_IMAGES"); dir && name == "deferred/half") {
       // docs/images: the AO buffer, the offline image and |difference| as a heat map (black
       // 0 → red 0.05 → yellow 0.1 → white ≥ 0.15; blue: pixels outside the comparison).
       Image heat(kSize, kSize, 3);

@@ -27,6 +27,8 @@ const char* format_name(VkFormat f) {
       return "rg32f";
     case VK_FORMAT_R32_UINT:
       return "r32ui";
+    case VK_FORMAT_R32G32B32A32_UINT:
+      return "rgba32ui";
     case VK_FORMAT_D32_SFLOAT:
       return "d32";
     case VK_FORMAT_D16_UNORM:
@@ -61,6 +63,7 @@ uint32_t format_bytes(VkFormat f) {
     case VK_FORMAT_R32G32_SFLOAT:
       return 8;
     case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_UINT:
       return 16;
     case VK_FORMAT_D16_UNORM:
       return 2;

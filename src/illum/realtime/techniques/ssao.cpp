@@ -3,13 +3,18 @@
 // ambient, light-map and ambient-cube terms only — not to PRT, whose transfer already holds
 // the visibility (lighting.glsl, ambient_term_includes_visibility).
 //
-// Passes (each its own timer scope): "ssao.normals" (pipelines without a G-buffer: normals
-// from the depth buffer, shaders/ssao_normals.comp), "ssao" (the estimator,
-// shaders/ssao.comp, into "ssao.raw"), "ssao.blur" (into "ssao"), then "ssao.apply": the
-// scene drawn once more with depth EQUAL over the HDR target, adding (a − 1)·indirect
-// (shaders/ssao_apply.frag) — the pipelines' own shaders stay untouched and direct light is
-// never scaled. With -p ssao.output=ao, "ssao.show" writes the AO buffer into the HDR
-// target instead.
+// Passes (each its own timer scope): "ssao.prepare" (the plane pyramid "ssao.planes" at the
+// estimator's resolution — half (default) or full with -p ssao.resolution=full: per texel one
+// pixel's surface plane, normals from the G-buffer or the depth buffer, shaders/ssao_prepare.comp —
+// and its coarser levels, shaders/ssao_downsample.comp), "ssao" (the estimator,
+// shaders/ssao.comp, into "ssao.raw" at the same resolution), "ssao.blur" (the bilateral
+// upsample and blur to the full-resolution "ssao"). "ssao" is the `ssao` lighting input
+// (lighting_inputs.h, shaders/inputs/ssao.glsl): every pipeline's shading multiplies the
+// indirect term by it (by the minimum with any other occlusion), never the direct light. With
+// -p ssao.output=ao, "ssao.show" writes the AO buffer into the HDR target instead.
+#include <algorithm>
+#include <bit>
+
 #include "illum/gpu/pipeline.h"
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
@@ -27,11 +32,15 @@ namespace {
 // Must match shaders/ssao_set.glsl.
 struct SsaoUniforms {
   glm::vec4 shape;  // radius, bias, intensity, falloff
-  glm::ivec4 info;  // directions, blur radius, march steps, 0
+  glm::ivec4 info;  // directions, blur radius, march steps, 1: G-buffer normals bound
+  glm::ivec4 grid;  // estimator divisor, pyramid levels, level-0 width and height
 };
 
 constexpr VkFormat kAoFormat = VK_FORMAT_R32_SFLOAT;
-constexpr VkFormat kNormalFormat = VK_FORMAT_R16G16B16A16_SFLOAT;  // as gbuffer.normal
+// Distances, plane offsets and packed normals as bits (ssao_set.glsl).
+constexpr VkFormat kPlaneFormat = VK_FORMAT_R32G32B32A32_UINT;
+// Level m serves taps 2^(m+3) level-0 texels away: 8 levels reach past a 4K frame's width.
+constexpr uint32_t kMaxLevels = 8;
 const char* const kGbufferNormals = "gbuffer.normal";
 
 class Ssao final : public Technique {
@@ -41,128 +50,137 @@ class Ssao final : public Technique {
     using B = gpu::DescriptorBinding;
     const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     const auto storage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-    set_layout_ =
-        gpu::DescriptorSetLayout(ctx.gpu, {B{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, B{1, cis},
-                                           B{2, cis}, B{3, cis}, B{4, storage}, B{5, storage}});
+    set_layout_ = gpu::DescriptorSetLayout(
+        ctx.gpu, {B{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, B{1, cis}, B{2, cis}, B{3, cis},
+                  B{4, storage}, B{5, storage}, B{6, cis}});
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
-    normals_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_normals.comp");
+    prepare_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_prepare.comp");
+    downsample_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_downsample.comp");
     estimate_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao.comp");
     blur_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_blur.comp");
     show_ = param<std::string>("output") == "ao";
-    if (show_) {
-      show_pass_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_show.comp");
-    } else {
-      gpu::GraphicsPipelineDesc a;
-      a.vertex_shader = "forward.vert";  // the pipelines' depths, repeated exactly
-      a.fragment_shader = "ssao_apply.frag";
-      a.vertex_input = mesh_vertex_input(false);
-      a.cull = VK_CULL_MODE_NONE;
-      a.color_formats = {kHdrFormat};
-      a.depth_format = ctx.depth_format;
-      a.stencil_format = ctx.depth_format;
-      a.depth_write = false;
-      a.depth_compare = VK_COMPARE_OP_EQUAL;
-      a.additive_blend = true;
-      // Coplanar duplicates pass EQUAL alike: the first one applies, the count stops the rest.
-      a.stencil_test = true;
-      a.stencil_front =
-          stencil_op(VK_STENCIL_OP_INCREMENT_AND_CLAMP, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_EQUAL);
-      a.stencil_back = a.stencil_front;
-      apply_ = gpu::Pipeline(ctx.gpu, layout_.handle(), a);
-    }
+    if (show_) show_pass_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_show.comp");
     uniforms_ = gpu::Buffer(ctx.gpu, sizeof(SsaoUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                             gpu::MemoryUsage::kUpload);
     for (VkDescriptorSet& s : sets_) s = descriptors_.allocate(set_layout_);
+    for (VkDescriptorSet& s : level_sets_) s = descriptors_.allocate(set_layout_);
   }
 
   void declare(FrameGraph& graph) override {
-    // Deferred: the G-buffer's normals; other pipelines: a normal pass from the depth.
-    own_normals_ = !graph.has_resource(kGbufferNormals);
-    normals_name_ = own_normals_ ? "ssao.normal" : kGbufferNormals;
-    auto image = [&](const char* name, VkFormat format) {
+    // Deferred: the G-buffer's normals (an optional read, resolved in bind()); other
+    // pipelines: normals from the depth buffer, computed where they are needed.
+    divisor_ = param<std::string>("resolution") == "half" ? 2 : 1;
+    grid_ = {std::max(ctx_.width() / divisor_, 1u), std::max(ctx_.height() / divisor_, 1u)};
+    levels_ = std::min<uint32_t>(kMaxLevels, std::bit_width(std::max(grid_.x, grid_.y)));
+    auto image = [&](const char* name, VkFormat format, uint32_t divisor, uint32_t mips) {
       ResourceDesc r;
       r.name = name;
-      r.frame_divisor = 1;
+      r.frame_divisor = divisor;
       r.format = format;
+      r.mips = mips;
       graph.add_resource(r);
     };
-    image("ssao.raw", kAoFormat);
-    image("ssao", kAoFormat);
-    if (own_normals_) image("ssao.normal", kNormalFormat);
+    image("ssao.planes", kPlaneFormat, divisor_, levels_);
+    image("ssao.raw", kAoFormat, divisor_, 1);
+    image("ssao", kAoFormat, 1, 1);
     const auto cs = kComputeShader;
-    if (own_normals_) {
-      PassDesc n;
-      n.name = "ssao.normals";
-      n.technique = name();
-      n.phase = Phase::kScreenSpace;
-      n.accesses = {{"depth", kSampled, cs}, {"ssao.normal", kStorageWrite, cs}};
-      n.record = [this](PassContext& pass) { dispatch(pass, normals_, sets_[kNormalsSet]); };
-      graph.add_pass(std::move(n));
-    }
+    const Access planes_write{"ssao.planes", kStorageWrite, cs};
+    const Access planes_read{"ssao.planes", kSampled, cs};
+    std::vector<Access> inputs = {{"depth", kSampled, cs}};
+    inputs.push_back(Access{kGbufferNormals, kSampled, cs}.if_produced());
+    PassDesc n;
+    n.name = "ssao.prepare";
+    n.technique = name();
+    n.phase = Phase::kScreenSpace;
+    n.accesses = inputs;
+    n.accesses.push_back(planes_write);
+    n.accesses.push_back(planes_read);
+    n.record = [this, planes_write, planes_read](PassContext& pass) {
+      pass.use(planes_write.mips(0));
+      dispatch(pass, prepare_, sets_[kPrepareSet], grid_);
+      for (uint32_t m = 1; m < levels_; ++m) {
+        pass.use(planes_read.mips(m - 1));
+        pass.use(planes_write.mips(m));
+        dispatch(pass, downsample_, level_sets_[m - 1],
+                 {std::max(grid_.x >> m, 1u), std::max(grid_.y >> m, 1u)});
+      }
+    };
+    graph.add_pass(std::move(n));
     PassDesc e;
     e.name = "ssao";
     e.technique = name();
     e.phase = Phase::kScreenSpace;
-    e.accesses = {
-        {"depth", kSampled, cs}, {normals_name_, kSampled, cs}, {"ssao.raw", kStorageWrite, cs}};
-    e.record = [this](PassContext& pass) { dispatch(pass, estimate_, sets_[kEstimateSet]); };
+    e.accesses = {{"depth", kSampled, cs}, planes_read, {"ssao.raw", kStorageWrite, cs}};
+    e.record = [this](PassContext& pass) { dispatch(pass, estimate_, sets_[kEstimateSet], grid_); };
     graph.add_pass(std::move(e));
     PassDesc b;
     b.name = "ssao.blur";
     b.technique = name();
     b.phase = Phase::kScreenSpace;
-    b.accesses = {{"depth", kSampled, cs},
-                  {normals_name_, kSampled, cs},
-                  {"ssao.raw", kSampled, cs},
-                  {"ssao", kStorageWrite, cs}};
-    b.record = [this](PassContext& pass) { dispatch(pass, blur_, sets_[kBlurSet]); };
+    b.accesses = inputs;
+    b.accesses.push_back(planes_read);
+    b.accesses.push_back({"ssao.raw", kSampled, cs});
+    b.accesses.push_back({"ssao", kStorageWrite, cs});
+    b.record = [this](PassContext& pass) {
+      dispatch(pass, blur_, sets_[kBlurSet], {ctx_.width(), ctx_.height()});
+    };
     graph.add_pass(std::move(b));
+    if (!show_) return;  // the shading passes read "ssao" as a lighting input
     PassDesc a;
     a.technique = name();
     a.phase = Phase::kLighting;
-    if (show_) {
-      a.name = "ssao.show";
-      a.accesses = {{"ssao", kSampled, cs}, {"hdr", kStorageWrite, cs}};
-      a.record = [this](PassContext& pass) { dispatch(pass, show_pass_, sets_[kApplySet]); };
-    } else {
-      a.name = "ssao.apply";
-      a.accesses = ctx_.shading_reads(kFragmentShader);
-      a.accesses.push_back({"ssao", kSampled, kFragmentShader});
-      a.accesses.push_back({"depth", kDepthReadOnly});
-      a.accesses.push_back({"hdr", kColorAttachment});
-      a.record = [this](PassContext& pass) { record_apply(pass); };
-    }
+    a.name = "ssao.show";
+    a.accesses = {{"ssao", kSampled, cs}, {"hdr", kStorageWrite, cs}};
+    a.record = [this](PassContext& pass) { dispatch(pass, show_pass_, sets_[kApplySet]); };
     graph.add_pass(std::move(a));
   }
 
+  std::vector<LightingContribution> lighting_inputs() const override {
+    if (show_) return {};  // the frame shows the AO buffer itself
+    return {{"ssao",
+             [this](gpu::DescriptorWriter& w, VkDescriptorSet set, uint32_t base) {
+               w.image(set, base, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                       ctx_.resources.image("ssao").view(), ctx_.globals.nearest().handle(),
+                       VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+             },
+             {"ssao"}}};
+  }
+
   void bind() override {
+    gbuffer_normals_ = ctx_.graph().reads("ssao.prepare", kGbufferNormals);
     FrameResources& r = ctx_.resources;
     const auto ro = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
     const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     const auto storage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     const VkSampler nearest = ctx_.globals.nearest().handle();
     const VkImageView depth = r.image("depth").view();
-    const VkImageView normals = r.image(normals_name_).view();
-    const VkImageView raw = r.image("ssao.raw").view(), ao = r.image("ssao").view();
     const VkImageView dummy = ctx_.globals.dummy_2d().view();
+    const VkImageView normals = gbuffer_normals_ ? r.image(kGbufferNormals).view() : dummy;
+    const VkImageView raw = r.image("ssao.raw").view(), ao = r.image("ssao").view();
+    const gpu::GpuImage& planes = r.image("ssao.planes");
     // Every binding of every set holds a valid image (lavapipe crashed in the dispatch
     // while bindings no shader of the set uses were left unwritten): what a pass does not
     // read is a dummy, what it does not write the raw AO.
     auto write = [&](gpu::DescriptorWriter& w, VkDescriptorSet s, VkImageView normal_view,
-                     VkImageView source, VkImageView target, VkImageView hdr) {
+                     VkImageView source, VkImageView target, VkImageView hdr,
+                     VkImageView plane_view) {
       w.buffer(s, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
           .image(s, 1, cis, depth, nearest,
                  VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
           .image(s, 2, cis, normal_view, nearest, ro)
           .image(s, 3, cis, source, nearest, ro)
           .image(s, 4, storage, target, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL)
-          .image(s, 5, storage, hdr, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+          .image(s, 5, storage, hdr, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL)
+          .image(s, 6, cis, plane_view, nearest, ro);
     };
     gpu::DescriptorWriter w;
-    write(w, sets_[kNormalsSet], dummy, dummy, own_normals_ ? normals : raw, raw);
-    write(w, sets_[kEstimateSet], normals, dummy, raw, raw);
-    write(w, sets_[kBlurSet], normals, raw, ao, raw);
-    write(w, sets_[kApplySet], dummy, ao, raw, show_ ? r.image("hdr").view() : raw);
+    const VkImageView all_planes = planes.view();
+    write(w, sets_[kPrepareSet], normals, dummy, planes.mip_view(0), raw, all_planes);
+    for (uint32_t m = 1; m < levels_; ++m)
+      write(w, level_sets_[m - 1], dummy, dummy, planes.mip_view(m), raw, planes.mip_view(m - 1));
+    write(w, sets_[kEstimateSet], normals, dummy, raw, raw, all_planes);
+    write(w, sets_[kBlurSet], normals, raw, ao, raw, all_planes);
+    write(w, sets_[kApplySet], dummy, ao, raw, show_ ? r.image("hdr").view() : raw, all_planes);
     w.commit(ctx_.gpu.device());
   }
 
@@ -172,12 +190,14 @@ class Ssao final : public Technique {
     const float falloff = param<float>("falloff");
     u.shape = vec4(radius, param<float>("bias"), param<float>("intensity"),
                    falloff > 0.0f ? falloff : radius);
-    u.info = glm::ivec4(param<int>("samples"), param<int>("blur"), kMarchSteps, 0);
+    u.info = glm::ivec4(param<int>("samples"), param<int>("blur"), kMarchSteps,
+                        gbuffer_normals_ ? 1 : 0);
+    u.grid = glm::ivec4(divisor_, levels_, grid_.x, grid_.y);
     uniforms_.write(&u, sizeof(u));
   }
 
  private:
-  enum { kNormalsSet, kEstimateSet, kBlurSet, kApplySet, kSets };
+  enum { kPrepareSet, kEstimateSet, kBlurSet, kApplySet, kSets };
   // Steps along each direction before the bisection (5 halvings: the hit distance is known
   // to R/(8·32)).
   static constexpr int kMarchSteps = 8;
@@ -187,37 +207,31 @@ class Ssao final : public Technique {
     return radius > 0.0f ? radius : kAutoRadius * ctx_.scene.bounds().diagonal();
   }
 
-  void dispatch(PassContext& pass, const gpu::Pipeline& pipeline, VkDescriptorSet set) {
+  // Over `size` invocations (0: the frame's size), 8×8 a group.
+  void dispatch(PassContext& pass, const gpu::Pipeline& pipeline, VkDescriptorSet set,
+                glm::uvec2 size = {0, 0}) {
+    if (size.x == 0) size = {ctx_.width(), ctx_.height()};
     const VkCommandBuffer c = pass.cmd();
     bind_shading_sets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), ctx_.globals,
                       ctx_.shading_sets(set));
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     const PushConstants push{};
     vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-    vkCmdDispatch(c, (ctx_.width() + 7) / 8, (ctx_.height() + 7) / 8, 1);
-  }
-
-  void record_apply(PassContext& pass) {
-    const VkCommandBuffer c = pass.cmd();
-    ctx_.drawer.begin_light_scope(c, ctx_.resources.image("hdr").view(),
-                                  ctx_.resources.image("depth").layer_view(0),
-                                  {ctx_.width(), ctx_.height()});
-    vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
-    const SceneView view = SceneView::camera(ctx_.view().view_proj, false);
-    ctx_.drawer.draw(c, apply_, layout_.handle(), ctx_.shading_sets(sets_[kApplySet]), view);
-    ctx_.drawer.end(c);
+    vkCmdDispatch(c, (size.x + 7) / 8, (size.y + 7) / 8, 1);
   }
 
   static constexpr float kAutoRadius = 0.02f;
 
-  bool show_ = false, own_normals_ = true;
-  std::string normals_name_;
+  bool show_ = false, gbuffer_normals_ = false;
+  uint32_t divisor_ = 1, levels_ = 1;
+  glm::uvec2 grid_{1, 1};  // the pyramid's level 0
   gpu::DescriptorAllocator descriptors_;
   gpu::DescriptorSetLayout set_layout_;
   gpu::PipelineLayout layout_;
-  gpu::Pipeline normals_, estimate_, blur_, apply_, show_pass_;
+  gpu::Pipeline prepare_, downsample_, estimate_, blur_, show_pass_;
   gpu::Buffer uniforms_;
   VkDescriptorSet sets_[kSets] = {};
+  VkDescriptorSet level_sets_[kMaxLevels - 1] = {};  // the pyramid's downsample, per level
 };
 
 }  // namespace
@@ -228,7 +242,9 @@ TechniqueDecl ssao_technique() {
   t.kind = TechniqueKind::kAddOn;
   t.summary =
       "screen-space ambient occlusion with Méndez's term saturate(N·ω − bias)/(1 + (t/falloff)²) "
-      "over a hemisphere of marched directions, depth-aware blur; scales the ambient, "
+      "over a hemisphere of marched directions against a pyramid of the depth buffer's "
+      "planes, at half (default) or full resolution, depth-aware upsample and blur; scales "
+      "the ambient, "
       "light-map and ambient-cube terms only, not PRT (its transfer holds the visibility; "
       "normals: the G-buffer's in deferred, from "
       "the depth buffer otherwise)";
@@ -250,6 +266,10 @@ TechniqueDecl ssao_technique() {
       int_param("samples", 16, 1, 256, "hemisphere directions per pixel")
           .slider(UiHint::kLinear, 1, 64),
       int_param("blur", 2, 0, 8, "depth-aware blur radius in pixels (0: none)"),
+      enum_param("resolution", "half", {"full", "half"},
+                 "estimator resolution: half estimates one pixel of each 2×2 and upsamples "
+                 "depth-aware to full resolution")
+          .structural(),
       enum_param("output", "frame", {"frame", "ao"},
                  "frame: AO applied to the indirect terms; ao: the AO buffer shown as the "
                  "frame (grey)")
