@@ -174,6 +174,11 @@ void PassContext::triangles(double count) {
   if (timer_) timer_->note_triangles(count);
 }
 
+bool PassContext::reads(const std::string& resource) const {
+  return std::any_of(pass_->accesses.begin(), pass_->accesses.end(),
+                     [&](const Access& a) { return a.resource == resource; });
+}
+
 bool PassContext::has_history(const std::string& resource) const {
   return graph_->copy_of(resource + kPrevious).written_frame >= 0;
 }
@@ -222,6 +227,14 @@ void FrameGraph::require(const std::string& resource, const std::string& hint) {
 bool FrameGraph::has_pass(const std::string& name) const {
   return std::any_of(passes_.begin(), passes_.end(),
                      [&](const Node& n) { return n.desc.name == name; });
+}
+
+bool FrameGraph::reads(const std::string& pass, const std::string& resource) const {
+  for (const Node& n : passes_)
+    if (n.desc.name == pass)
+      return std::any_of(n.desc.accesses.begin(), n.desc.accesses.end(),
+                         [&](const Access& a) { return a.resource == resource; });
+  return false;
 }
 
 bool FrameGraph::has_resource(const std::string& name) const {
@@ -317,6 +330,9 @@ void FrameGraph::bind_buffer(const std::string& resource, int copy, gpu::Buffer*
 }
 
 void FrameGraph::compile() {
+  for (Node& n : passes_)
+    std::erase_if(n.desc.accesses,
+                  [&](const Access& a) { return a.optional && !find(a.resource).has_value(); });
   sorted_.resize(passes_.size());
   std::iota(sorted_.begin(), sorted_.end(), size_t{0});
   std::stable_sort(sorted_.begin(), sorted_.end(), [&](size_t a, size_t b) {

@@ -86,8 +86,13 @@ struct Access {
   // level m (a pyramid) and the graph puts one barrier on each level.
   uint32_t base_mip = 0, mip_count = kAllSubresources;
   uint32_t base_layer = 0, layer_count = kAllSubresources;
+  // A read the pass makes only where some technique declares the resource (tone mapping
+  // adds bloom when bloom is on): compile() drops it otherwise, and the pass learns which
+  // through PassContext::reads / FrameGraph::reads instead of probing names.
+  bool optional = false;
 
   Access mips(uint32_t base, uint32_t count = 1) const;
+  Access if_produced() const;
   Access layers(uint32_t base, uint32_t count = 1) const;
   bool same_range(const Access& other) const;
 };
@@ -257,6 +262,8 @@ class PassContext {
   bool counts_quads() const;
   void begin_quads(VkBuffer counter);
   void end_quads(VkBuffer counter);
+  // Whether the pass reads `resource` (an optional read whose resource is declared).
+  bool reads(const std::string& resource) const;
   // Whether "NAME.previous" holds a frame (false until the writer has run twice).
   bool has_history(const std::string& resource) const;
   // What "NAME" or "NAME.previous" resolves to at this point of the frame: the copy index
@@ -298,9 +305,13 @@ class FrameGraph {
   // A resource the frame must produce (the display image): compile() throws Error naming
   // `hint` when no pass writes it.
   void require(const std::string& resource, const std::string& hint);
-  // Orders the passes and derives each resource's usage. Throws InternalError when a pass
-  // reads a resource nothing writes before it (or declares an unknown one).
+  // Orders the passes, drops the optional reads of undeclared resources and derives each
+  // resource's usage. Throws InternalError when a pass reads a resource nothing writes
+  // before it (or declares an unknown one).
   void compile();
+  // After compile(): whether pass `pass` accesses `resource` (false for a dropped optional
+  // read or an unknown pass).
+  bool reads(const std::string& pass, const std::string& resource) const;
 
   // Changes since the last frame: the passes invalidated by them run in full next frame.
   // kParametersChanged concerns the passes of `technique` only.

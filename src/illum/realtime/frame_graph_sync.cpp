@@ -34,6 +34,12 @@ Access Access::layers(uint32_t base, uint32_t count) const {
   return a;
 }
 
+Access Access::if_produced() const {
+  Access a = *this;
+  a.optional = true;
+  return a;
+}
+
 bool Access::same_range(const Access& o) const {
   return base_mip == o.base_mip && mip_count == o.mip_count && base_layer == o.base_layer &&
          layer_count == o.layer_count;

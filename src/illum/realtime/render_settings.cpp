@@ -31,6 +31,7 @@ std::string bounds_text(const ParamDecl& d) {
 std::string range_text(const ParamDecl& d) {
   if (d.type == ParamType::kEnum) return "one of " + join(d.choices);
   if (d.type == ParamType::kBool) return "true or false";
+  if (d.type == ParamType::kString) return "text";
   return "in " + bounds_text(d);
 }
 
@@ -88,13 +89,16 @@ ParamValue checked_value(const std::string& key, const ParamDecl& d, const Param
               d.choices.end())
         throw bad("is not " + range_text(d));
       return v;
+    case ParamType::kString:
+      if (!std::holds_alternative<std::string>(v)) throw bad("is not text");
+      return v;
   }
   throw InternalError("unhandled parameter type");
 }
 
 RenderSettings::RenderSettings() {
   for (const TechniqueDecl& t : technique_registry())
-    if (t.kind == TechniqueKind::kAddOn && t.default_on) add_ons.insert(t.name);
+    if (t.kind == TechniqueKind::kAddOn && t.default_on) enable(t.name);
 }
 
 void RenderSettings::set(const std::string& key, const ParamValue& value) {
@@ -134,6 +138,7 @@ ParamValue from_json(const std::string& key, const ParamDecl& d, const nlohmann:
         throw bad();
       return Color(j[0].get<float>(), j[1].get<float>(), j[2].get<float>());
     case ParamType::kEnum:
+    case ParamType::kString:
       if (!j.is_string()) throw bad();
       return j.get<std::string>();
   }
@@ -144,6 +149,7 @@ bool positive(const ParamValue& v) {
   if (std::holds_alternative<bool>(v)) return std::get<bool>(v);
   if (std::holds_alternative<int>(v)) return std::get<int>(v) > 0;
   if (std::holds_alternative<float>(v)) return std::get<float>(v) > 0.0f;
+  if (std::holds_alternative<std::string>(v)) return !std::get<std::string>(v).empty();
   return true;
 }
 
@@ -166,6 +172,10 @@ void RenderSettings::set_param(const std::string& key, const nlohmann::json& val
       throw Error(fmt::format("{} {}: {}", origin, key, e.what()));
     }
     values_[key] = checked(key, *d);
+    if (d->key_switches) {
+      const std::string name = split_key(key).first;
+      positive(values_[key]) ? enable(name) : disable(name);
+    }
     return;
   }
   bool known = false;
@@ -206,6 +216,17 @@ void RenderSettings::enable(const std::string& name) {
   if (t->kind == TechniqueKind::kGlobal)
     throw Error(fmt::format("--enable {}: '{}' is always on", name, name));
   add_ons.insert(name);
+  for (const std::string& d : t->dependencies) enable(d);  // the registry has no cycles
+}
+
+std::string RenderSettings::needed_by(const std::string& name) const {
+  for (const std::string& a : add_ons) {
+    const TechniqueDecl* t = find_technique(a);
+    if (t && a != name &&
+        std::find(t->dependencies.begin(), t->dependencies.end(), name) != t->dependencies.end())
+      return a;
+  }
+  return "";
 }
 
 void RenderSettings::disable(const std::string& name) {
@@ -219,6 +240,10 @@ void RenderSettings::disable(const std::string& name) {
       throw Error(m);
     }
   }
+  const std::string needer = needed_by(name);
+  if (active(name) && !needer.empty())
+    throw Error(
+        fmt::format("--disable {0}: '{1}' needs '{0}' (switch '{1}' off first)", name, needer));
   add_ons.erase(name);
 }
 
@@ -251,7 +276,11 @@ void RenderSettings::check() const {
       throw Error(fmt::format("renderer option '{}' = {} is outside [1, 16384]", name, value));
   technique_of_kind(pipeline, TechniqueKind::kFramePipeline, "frame pipeline");
   technique_of_kind(shadows, TechniqueKind::kShadowMethod, "shadow method");
-  for (const std::string& a : add_ons) technique_of_kind(a, TechniqueKind::kAddOn, "add-on");
+  for (const std::string& a : add_ons) {
+    const TechniqueDecl& t = technique_of_kind(a, TechniqueKind::kAddOn, "add-on");
+    for (const std::string& d : t.dependencies)
+      if (!add_ons.count(d)) throw Error(fmt::format("add-on '{}' needs '{}', which is off", a, d));
+  }
 }
 
 }  // namespace illum::realtime

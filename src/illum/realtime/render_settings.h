@@ -46,16 +46,21 @@ struct RenderSettings {
                  const std::string& origin = "--param");
 
   // Add-ons: throws Error for an unknown name, or one that is a frame pipeline or shadow
-  // method (those are chosen by name: pipeline, shadows).
+  // method (those are chosen by name: pipeline, shadows). enable() switches on what the
+  // add-on needs (TechniqueDecl::dependencies, transitively); disable() refuses, with one
+  // line naming both, an add-on another one switched on needs.
   void enable(const std::string& name);
   void disable(const std::string& name);
+  // An add-on switched on that needs `name`, or "".
+  std::string needed_by(const std::string& name) const;
   // Whether `name` takes part in the frame: the globals, the chosen pipeline and shadow
   // method, and the add-ons switched on.
   bool active(const std::string& name) const;
   // The active techniques in frame order (registry order).
   std::vector<std::string> active_techniques() const;
 
-  // The size, pipeline, shadow method and add-on names; throws Error naming what is wrong.
+  // The size, pipeline, shadow method, add-on names and that every add-on on has what it
+  // needs; throws Error naming what is wrong.
   void check() const;
 
   bool operator==(const RenderSettings& other) const = default;

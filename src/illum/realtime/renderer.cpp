@@ -111,6 +111,7 @@ struct Renderer::Impl {
         for (const std::string& r : t->shading_reads()) reads.push_back({r, kSampled, shaders});
       return reads;
     };
+    tctx.graph_ = [this] { return graph.get(); };
     globals.upload_lights(lights);
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -274,6 +275,10 @@ struct Renderer::Impl {
     update_view(camera);
     globals.update(view, settings, lights.size(), globals_width(), globals_height());
     for (const auto& t : techniques) t->update();
+    // What techniques raised since the last frame (in update() above, or while recording
+    // it); raised while this frame records, they apply to the next.
+    for (const auto& [changes, technique] : tctx.raised_) graph->notify(changes, technique);
+    tctx.raised_.clear();
     timer.reserve(graph->timer_scopes());
     ILLUM_VK(vkResetCommandBuffer(cmd, 0));
     gpu::record_one_time(cmd, [&](VkCommandBuffer c) {

@@ -30,6 +30,8 @@ const char* type_name(ParamType type) {
       return "color";
     case ParamType::kEnum:
       return "enum";
+    case ParamType::kString:
+      return "string";
   }
   return "?";
 }
@@ -116,6 +118,16 @@ ParamDecl enum_param(const std::string& key, const std::string& fallback,
   d.help = help;
   ILLUM_CHECK(std::find(d.choices.begin(), d.choices.end(), fallback) != d.choices.end(),
               "parameter '{}': default '{}' is not one of its values", key, fallback);
+  return d;
+}
+
+ParamDecl string_param(const std::string& key, const std::string& fallback,
+                       const std::string& help) {
+  ParamDecl d;
+  d.key = key;
+  d.type = ParamType::kString;
+  d.default_value = fallback;
+  d.help = help;
   return d;
 }
 

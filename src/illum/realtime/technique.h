@@ -33,8 +33,8 @@ namespace illum::realtime {
 enum class TechniqueKind { kGlobal, kFramePipeline, kShadowMethod, kAddOn };
 const char* kind_name(TechniqueKind kind);  // "globals", "frame pipeline", ...
 
-enum class ParamType { kBool, kInt, kFloat, kColor, kEnum };
-const char* type_name(ParamType type);  // "bool", "int", "float", "color", "enum"
+enum class ParamType { kBool, kInt, kFloat, kColor, kEnum, kString };
+const char* type_name(ParamType type);  // "bool", "int", "float", "color", "enum", "string"
 
 // Per-frame: applied to the running renderer at the next frame (uniforms, push constants);
 // a change also re-runs the technique's passes scheduled "on change". Structural: the owning
@@ -61,6 +61,8 @@ struct ParamDecl {
   std::string alias;
   // The alias also switches the technique: on for a value > 0, off for 0 (bloom_strength).
   bool alias_switches = false;
+  // The full key switches the technique too: on for a non-empty string (debug.show=NAME).
+  bool key_switches = false;
   UiHint ui = UiHint::kLinear;
   double ui_min = 0.0, ui_max = 0.0;  // the panel's slider range; 0, 0: the declared range
 
@@ -77,6 +79,9 @@ ParamDecl color_param(const std::string& key, Color fallback, float lo, float hi
                       const std::string& help);
 ParamDecl enum_param(const std::string& key, const std::string& fallback,
                      std::vector<std::string> choices, const std::string& help);
+// Free text, checked by its technique when the frame is assembled (a resource name).
+ParamDecl string_param(const std::string& key, const std::string& fallback,
+                       const std::string& help);
 
 class Technique;
 class TechniqueContext;
@@ -89,6 +94,11 @@ struct TechniqueDecl {
   std::vector<ParamDecl> params;
   bool default_on = false;   // add-ons switched on unless --disable'd
   std::string switch_alias;  // a boolean `-p` key that switches the add-on (auto_exposure)
+  // Add-ons this one needs (`requires` is a keyword): switching it on switches them on,
+  // transitively, and switching one of them off while it is on is refused. Add-ons only —
+  // the pipeline and shadow method are the user's choice, not a technique's; the registry
+  // refuses unknown names and cycles (check_declarations).
+  std::vector<std::string> dependencies;
   // Builds the technique for a renderer; null for the globals, which have no passes (the
   // renderer writes their values into the frame uniforms).
   std::function<std::unique_ptr<Technique>(TechniqueContext&)> create;
@@ -130,6 +140,9 @@ class Technique {
  protected:
   template <typename T>
   T param(const std::string& key) const;
+  // Invalidates, at the next frame, the passes whose schedules name `changes` (a technique
+  // that moved geometry raises kGeometryChanged; kParametersChanged reaches its own passes).
+  void raise(Changes changes) const;
 
   TechniqueContext& ctx_;
   const TechniqueDecl& decl_;

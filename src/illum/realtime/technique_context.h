@@ -6,6 +6,8 @@
 
 #include <array>
 #include <functional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "illum/gpu/context.h"
@@ -62,6 +64,13 @@ class TechniqueContext {
   std::vector<Access> shading_reads(VkPipelineStageFlags2 shaders) const {
     return shading_reads_(shaders);
   }
+  // The assembled frame graph, from bind() on (which optional reads stand: FrameGraph::reads).
+  const FrameGraph& graph() const { return *graph_(); }
+  // Changes raised while building, updating or recording: the renderer notifies the graph
+  // of them before the next frame's passes run (kParametersChanged concerns `technique`).
+  void raise(Changes changes, const std::string& technique = "") {
+    raised_.push_back({changes, technique});
+  }
 
  private:
   friend class Renderer;
@@ -73,11 +82,17 @@ class TechniqueContext {
   std::function<ShadowMethod*()> shadow_method_;
   std::function<std::array<VkDescriptorSet, 3>(VkDescriptorSet)> shading_sets_;
   std::function<std::vector<Access>(VkPipelineStageFlags2)> shading_reads_;
+  std::function<const FrameGraph*()> graph_;
+  std::vector<std::pair<Changes, std::string>> raised_;
 };
 
 template <typename T>
 T Technique::param(const std::string& key) const {
   return ctx_.settings().get<T>(decl_.name + "." + key);
+}
+
+inline void Technique::raise(Changes changes) const {
+  ctx_.raise(changes, decl_.name);
 }
 
 }  // namespace illum::realtime

@@ -1,21 +1,88 @@
 #include "illum/realtime/technique_registry.h"
 
+#include <algorithm>
+#include <functional>
+
 #include "illum/core/error.h"
 #include "illum/realtime/techniques/techniques.h"
 
 namespace illum::realtime {
 
-const std::vector<TechniqueDecl>& technique_registry() {
+namespace {
+
+TechniqueList& registry_list() {
   // The one list of techniques. Within a kind, the order is the frame's: add-ons run in
-  // this order (tone mapping last).
-  static const std::vector<TechniqueDecl> registry = {
-      lighting_globals(),   scene_draw_globals(),      forward_technique(),
-      deferred_technique(), no_shadows_technique(),    shadow_map_technique(),
-      vsm_technique(),      shadow_volume_technique(), baked_technique(),
-      ssao_technique(),     luminance_technique(),     bloom_technique(),
-      tonemap_technique(),  visibility_technique(),
-  };
+  // this order (tone mapping, then the debug view, last).
+  static TechniqueList registry = [] {
+    TechniqueList list = {
+        lighting_globals(),   scene_draw_globals(),      forward_technique(),
+        deferred_technique(), no_shadows_technique(),    shadow_map_technique(),
+        vsm_technique(),      shadow_volume_technique(), baked_technique(),
+        ssao_technique(),     luminance_technique(),     bloom_technique(),
+        tonemap_technique(),  visibility_technique(),    debug_show_technique(),
+    };
+    check_declarations(list);
+    return list;
+  }();
   return registry;
+}
+
+}  // namespace
+
+const TechniqueList& technique_registry() {
+  return registry_list();
+}
+
+void check_declarations(const TechniqueList& list) {
+  auto find = [&](const std::string& name) -> const TechniqueDecl* {
+    for (const TechniqueDecl& t : list)
+      if (t.name == name) return &t;
+    return nullptr;
+  };
+  for (const TechniqueDecl& t : list) {
+    ILLUM_CHECK(t.name.find('.') == std::string::npos && !t.name.empty(),
+                "technique '{}': a name has no '.' (keys are NAME.key)", t.name);
+    ILLUM_CHECK(find(t.name) == &t, "technique '{}' is declared twice", t.name);
+    for (const std::string& d : t.dependencies) {
+      const TechniqueDecl* dep = find(d);
+      ILLUM_CHECK(dep, "technique '{}' needs '{}', which is not declared", t.name, d);
+      ILLUM_CHECK(dep->kind == TechniqueKind::kAddOn && t.kind == TechniqueKind::kAddOn,
+                  "technique '{}' ({}) needs '{}' ({}): only add-ons need add-ons", t.name,
+                  kind_name(t.kind), d, kind_name(dep->kind));
+    }
+  }
+  // Depth-first from each technique along its dependencies; meeting a technique still on
+  // the path is a cycle, reported as the path.
+  std::vector<std::string> path;
+  std::function<void(const TechniqueDecl&)> visit = [&](const TechniqueDecl& t) {
+    const auto on_path = std::find(path.begin(), path.end(), t.name);
+    if (on_path != path.end()) {
+      std::string cycle;
+      for (auto it = on_path; it != path.end(); ++it) cycle += *it + " -> ";
+      throw InternalError(
+          fmt::format("techniques need each other in a cycle: {}{}", cycle, t.name));
+    }
+    path.push_back(t.name);
+    for (const std::string& d : t.dependencies) visit(*find(d));
+    path.pop_back();
+  };
+  for (const TechniqueDecl& t : list) visit(t);
+}
+
+TechniqueRegistration::TechniqueRegistration(TechniqueDecl decl) : name_(decl.name) {
+  TechniqueList& list = registry_list();
+  list.push_back(std::move(decl));
+  try {
+    check_declarations(list);
+  } catch (...) {
+    list.pop_back();
+    throw;
+  }
+}
+
+TechniqueRegistration::~TechniqueRegistration() {
+  TechniqueList& list = registry_list();
+  if (!list.empty() && list.back().name == name_) list.pop_back();
 }
 
 const TechniqueDecl* find_technique(const std::string& name) {
@@ -57,6 +124,8 @@ std::string range_of(const ParamDecl& p) {
       for (const std::string& c : p.choices) s += (s.empty() ? "" : "|") + c;
       return s;
     }
+    case ParamType::kString:
+      return "text";
     default:
       return fmt::format("[{}, {}]", bound(p, p.min), bound(p, p.max));
   }
@@ -94,6 +163,11 @@ std::string technique_listing() {
         state = t.default_on ? " (on by default)" : " (off by default)";
       if (!t.switch_alias.empty()) state += fmt::format(" [-p {}=true|false]", t.switch_alias);
       out += fmt::format("  {}{}: {}\n", t.name, state, t.summary);
+      if (!t.dependencies.empty()) {
+        std::string needs;
+        for (const std::string& d : t.dependencies) needs += (needs.empty() ? "" : ", ") + d;
+        out += fmt::format("    needs: {} (switched on with it)\n", needs);
+      }
       for (const ParamDecl& p : t.params) {
         const std::string range = range_of(p);
         out += fmt::format("    {}.{}  {}{}{}  default {}  {}{}\n      {}\n", t.name, p.key,
@@ -137,6 +211,7 @@ nlohmann::ordered_json technique_listing_json() {
     nlohmann::ordered_json j = {{"name", t.name}, {"kind", kind_name(t.kind)}};
     if (t.kind == TechniqueKind::kAddOn) j["default_on"] = t.default_on;
     if (!t.switch_alias.empty()) j["switch_alias"] = t.switch_alias;
+    j["dependencies"] = t.dependencies;
     j["summary"] = t.summary;
     j["params"] = params;
     list.push_back(j);

@@ -77,6 +77,15 @@ void param_widget(RenderSettings* s, const std::string& name, const ParamDecl& p
       next = v;
       break;
     }
+    case ParamType::kString: {
+      // Taken on Enter: a half-typed resource name would rebuild the frame at every key.
+      char text[256] = {};
+      std::get<std::string>(next).copy(text, sizeof(text) - 1);
+      changed =
+          ImGui::InputText(label.c_str(), text, sizeof(text), ImGuiInputTextFlags_EnterReturnsTrue);
+      next = std::string(text);
+      break;
+    }
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", key.c_str(), p.help.c_str());
   if (changed) {
@@ -89,12 +98,17 @@ void param_widget(RenderSettings* s, const std::string& name, const ParamDecl& p
   ImGui::PopID();
 }
 
-void technique_section(RenderSettings* s, const TechniqueDecl& t, int lights) {
+void technique_section(RenderSettings* s, const TechniqueDecl& t, int lights, std::string* error) {
   ImGui::PushID(t.name.c_str());
   if (t.kind == TechniqueKind::kAddOn) {
     bool on = s->active(t.name);
-    if (ImGui::Checkbox(("##on " + t.name).c_str(), &on))
-      on ? s->enable(t.name) : s->disable(t.name);
+    if (ImGui::Checkbox(("##on " + t.name).c_str(), &on)) {
+      try {
+        on ? s->enable(t.name) : s->disable(t.name);
+      } catch (const Error& e) {
+        *error = e.what();  // another add-on needs it: the toggle is refused
+      }
+    }
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("switch %s on or off", t.name.c_str());
     ImGui::SameLine();
   }
@@ -152,7 +166,8 @@ void draw_panel(const gpu::Context& ctx, RenderSettings* s, PanelState* p, Camer
   }
   const int lights = static_cast<int>(p->lights.size());
   for (const TechniqueDecl& t : technique_registry())
-    if (t.kind == TechniqueKind::kAddOn || s->active(t.name)) technique_section(s, t, lights);
+    if (t.kind == TechniqueKind::kAddOn || s->active(t.name))
+      technique_section(s, t, lights, &p->error);
   if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
     p->lights_changed |= ImGui::SliderFloat("intensity x", &p->light_scale, 0.0f, 16.0f, "%.3f",
                                             ImGuiSliderFlags_Logarithmic);

@@ -24,6 +24,7 @@ TechniqueDecl ssao_technique();           // ssao.cpp
 TechniqueDecl luminance_technique();      // luminance.cpp
 TechniqueDecl bloom_technique();          // bloom.cpp
 TechniqueDecl tonemap_technique();        // tonemap.cpp
+TechniqueDecl debug_show_technique();     // debug_show.cpp
 
 // The visibility buffer's id packing (visibility.cpp): id = draw << triangle_bits | triangle.
 struct VisibilityPacking {

@@ -40,21 +40,22 @@ class Tonemap final : public Technique {
     // Read back (Renderer::ldr()) and blitted to the window (illum view).
     ldr.extra_usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     graph.add_resource(ldr);
-    // What the add-ons before it produced, if they are on.
-    luminance_ = graph.has_resource("luminance");
-    bloom_ = graph.has_resource("bloom");
     PassDesc p;
     p.name = "tonemap";
     p.technique = name();
     p.phase = Phase::kDisplay;
-    p.accesses = {{"hdr", kSampled, kComputeShader}, {"ldr", kStorageWrite, kComputeShader}};
-    if (luminance_) p.accesses.push_back({"luminance", kStorageRead, kComputeShader});
-    if (bloom_) p.accesses.push_back({"bloom", kSampled, kComputeShader});
+    // The auto exposure and bloom where those add-ons are on (optional reads).
+    p.accesses = {{"hdr", kSampled, kComputeShader},
+                  {"ldr", kStorageWrite, kComputeShader},
+                  Access{"luminance", kStorageRead, kComputeShader}.if_produced(),
+                  Access{"bloom", kSampled, kComputeShader}.if_produced()};
     p.record = [this](PassContext& pass) { record(pass); };
     graph.add_pass(std::move(p));
   }
 
   void bind() override {
+    luminance_ = ctx_.graph().reads("tonemap", "luminance");
+    bloom_ = ctx_.graph().reads("tonemap", "bloom");
     FrameResources& r = ctx_.resources;
     const FrameGlobals& g = ctx_.globals;
     const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
