@@ -25,8 +25,9 @@ struct Light {
 };
 
 // Set 0: the frame globals. A technique's own data lives in its own set (shadows.glsl: the
-// shadow method's, set 3; baked.glsl: baked lighting, set 4; gbuffer.glsl: the deferred
-// pipeline's, set 2).
+// shadow method's, set 3; lighting_inputs.glsl: the lighting inputs, set 4; gbuffer.glsl: the deferred
+// pipeline's, set 2). The camera fields of `frame` are view 0's (the frame's camera): the
+// screen-space passes over the frame's images read them; scene draws read `views[push.view]`.
 layout(std140, set = 0, binding = 0) uniform Frame {
   mat4 view;
   mat4 proj;
@@ -40,6 +41,20 @@ layout(std140, set = 0, binding = 0) uniform Frame {
 
 layout(std430, set = 0, binding = 1) readonly buffer Materials { Material materials[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Lights { Light lights[]; };
+
+// The camera block: every view a scene draw can be seen from (FrameGlobals::add_views), view 0
+// the frame's camera. Scene-draw variants take theirs by push.view, so a technique can draw
+// the scene with any variant from a light (shadow maps) or a capture's face.
+struct View {
+  mat4 view;
+  mat4 proj;
+  mat4 view_proj;
+  mat4 inv_view_proj;
+  vec4 camera_pos;  // xyz
+  vec4 extent;      // width, height, 1/width, 1/height
+  vec4 planes;      // near, far
+};
+layout(std430, set = 0, binding = 3) readonly buffer Views { View views[]; };
 
 // Octahedral unit-vector encoding (both components in [−1, 1]) for the compact G-buffer.
 vec2 oct_encode(vec3 n) {
@@ -62,9 +77,10 @@ layout(set = 1, binding = 3) uniform sampler2D specular_map;
 layout(push_constant) uniform Push {
   mat4 model;
   int material;
-  int view_index;   // shadow passes: which shadow view; colour passes: the draw's index
+  int view;         // views[view]: the camera the draw is seen from
+  int draw;         // the draw item's index (colour passes; 0 in depth-like ones)
   int light_index;  // shadow / per-light passes
-  int pad;
+  int mode;         // the variant's switch (forward.frag: which lights; visibility: id bits)
 } push;
 
 #endif

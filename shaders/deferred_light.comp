@@ -13,7 +13,7 @@ void main() {
   float depth = texelFetch(g_depth, pixel, 0).r;
   if (depth >= 1.0) return;
   Surface s = gbuffer_surface(pixel, depth);
-  vec3 v = normalize(frame.camera_pos.xyz - s.p);
+  vec3 v = normalize(views[push.view].camera_pos.xyz - s.p);
   // gl_FragCoord.xy of the fragment path (same PCF rotation)
   vec3 sum = direct_light(s, v, vec2(pixel) + 0.5);
   if (all(equal(sum, vec3(0.0)))) return;

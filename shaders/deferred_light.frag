@@ -10,7 +10,7 @@ void main() {
   float depth = texelFetch(g_depth, pixel, 0).r;
   if (depth >= 1.0) discard;
   Surface s = gbuffer_surface(pixel, depth);
-  vec3 v = normalize(frame.camera_pos.xyz - s.p);
+  vec3 v = normalize(views[push.view].camera_pos.xyz - s.p);
   vec3 radiance, l;
   if (!light_contribution(push.light_index, s, v, radiance, l)) discard;
   out_color = vec4(radiance * cube_shadow(push.light_index, s.p, s.ng, gl_FragCoord.xy), 1.0);

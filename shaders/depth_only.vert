@@ -10,5 +10,5 @@ precise gl_Position;
 
 void main() {
   vec4 world = push.model * vec4(in_position, 1.0);
-  gl_Position = frame.view_proj * world;
+  gl_Position = views[push.view].view_proj * world;
 }

@@ -1,5 +1,6 @@
 #version 450
-#include "prt.glsl"
+#include "common.glsl"
+#include "inputs/prt.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -11,7 +12,7 @@ layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec4 out_tangent;
 layout(location = 3) out vec4 out_uv;
-layout(location = 4) out vec3 out_prt;  // per-vertex PRT: Σ T_i L_i (RGB), prt.glsl
+layout(location = 4) out vec3 out_prt;  // per-vertex PRT: Σ T_i L_i (RGB), inputs/prt.glsl
 // The depth pre-pass and the shading pass (depth EQUAL) must compute identical depths:
 // no FMA contraction that a compiler could choose differently per pipeline. (The SPIR-V
 // Invariant decoration would say more but trips the validator on block members.)
@@ -27,6 +28,6 @@ void main() {
   // Relit here and interpolated: Σ T_i L_i is linear in T, so this equals relighting the
   // interpolated transfer (gl_VertexIndex counts from the draw's vertex offset: the scene
   // vertex buffer's index, the transfer points' order).
-  out_prt = baked.info.y == kPrtVertices ? prt_point_relit(uint(gl_VertexIndex)) : vec3(0.0);
-  gl_Position = frame.view_proj * world;
+  out_prt = prt_input.info.x == kPrtVertices ? prt_point_relit(uint(gl_VertexIndex)) : vec3(0.0);
+  gl_Position = views[push.view].view_proj * world;
 }

@@ -11,8 +11,8 @@ layout(set = 2, binding = 2) uniform sampler2D g_specular;
 layout(set = 2, binding = 3) uniform sampler2D g_depth;
 
 Surface gbuffer_surface(ivec2 pixel, float depth) {
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.extent.zw * 2.0 - 1.0;
-  vec4 h = frame.inv_view_proj * vec4(ndc, depth, 1.0);
+  vec2 ndc = (vec2(pixel) + 0.5) * views[push.view].extent.zw * 2.0 - 1.0;
+  vec4 h = views[push.view].inv_view_proj * vec4(ndc, depth, 1.0);
   vec4 albedo = texelFetch(g_albedo, pixel, 0);
   vec4 normals = texelFetch(g_normal, pixel, 0);
   vec4 specular = texelFetch(g_specular, pixel, 0);

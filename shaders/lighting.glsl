@@ -7,18 +7,13 @@
 #define ILLUM_LIGHTING_GLSL
 #include "common.glsl"
 #include "shadows.glsl"
-#include "baked.glsl"
-#include "prt.glsl"
-#include "probe_volume.glsl"
 #include "sh.glsl"
 
 // Texture sampling hooks: fragment shaders sample with the implicit LOD of their quads; a
-// compute pass (visibility_resolve.comp) defines these first to pass explicit gradients.
+// compute pass (visibility_resolve.comp) defines these first to pass explicit gradients
+// (SAMPLE_LIGHTMAP: inputs/lightmap.glsl).
 #ifndef SAMPLE_MATERIAL
 #define SAMPLE_MATERIAL(map, uv) texture(map, uv)
-#endif
-#ifndef SAMPLE_LIGHTMAP
-#define SAMPLE_LIGHTMAP(uvw) texture(lightmap, uvw)
 #endif
 
 struct Surface {
@@ -80,7 +75,7 @@ Surface load_surface(int material_index, vec3 p, vec3 normal, vec4 tangent, vec4
     s.n_z = max(tn.z, 0.0);
     s.n_ts = tn;
     s.n = normalize(t * tn.x + b * tn.y + s.ng * tn.z);
-    s.n = bent_for_valid_reflection(s.n, s.ng, normalize(frame.camera_pos.xyz - p));
+    s.n = bent_for_valid_reflection(s.n, s.ng, normalize(views[push.view].camera_pos.xyz - p));
   }
   s.uv1 = uv.zw;
   s.prt_vertex = vec3(0.0);
@@ -148,80 +143,19 @@ vec3 direct_light(Surface s, vec3 v, vec2 frag) {
   return sum;
 }
 
-// Ambient: PRT when shown, a constant, or the light-map at uv1 (× the baked intensity). Plain light-maps are
-// scaled by N_z (S002 §4.1); RNM (S003 ch. 7) blends its three tangent-space basis maps with
-// weights max(n·b_i, 0)² normalised; SH-L1 maps hold the tangent-space radiance SH (sh.glsl,
-// the normal as the pole) and give E(n)/π = c0·Y00 + (2/3)·Σ c1m·Y1m(n); dominant maps hold
-// ambient A, directional colour C and the tangent-space direction d: A + C·max(0, n·d)
-// (bake/lightmap_basis.h; exact E/π on the baked normal, so a surface without a normal map
-// shows what the plain map shows).
-// A probed (dynamic) object takes the probe volume instead: per pixel, albedo·E(n)/π
-// (probe_volume.glsl), or its ambient cube along the normal (baked.probe_lookup=instance).
-// `draw`: the draw's index (colour passes push it as push.view_index), for the probes.
-vec3 ambient_term_for(Surface s, int draw) {
-  int cube = draw < baked.info.z ? draw_cubes[draw] : 0;
-  if (cube > 0 && baked.probe_size.w == kProbeLookupPixel)
-    return s.albedo * kShInvPi * max(probe_volume_irradiance(s.p, s.n, s.ng), 0.0);
-  if (cube > 0) {
-    int base = 6 * (cube - 1);
-    vec3 n2 = s.n * s.n;
-    vec3 a = n2.x * ambient_cubes[base + (s.n.x >= 0.0 ? 0 : 1)].rgb +
-             n2.y * ambient_cubes[base + (s.n.y >= 0.0 ? 2 : 3)].rgb +
-             n2.z * ambient_cubes[base + (s.n.z >= 0.0 ? 4 : 5)].rgb;
-    return s.albedo * a;
-  }
-  // PRT (prt.glsl): the baked transfer relit by the sun holds all the light the surface
-  // receives (direct and, when interreflected, bounced), so it replaces the ambient term.
-  if (baked.info.y != kPrtNone) {
-    vec3 e = baked.info.y == kPrtVertices ? s.prt_vertex : prt_atlas_relit(s.uv1);
-    return s.albedo * max(e, 0.0);
-  }
-  int kind = baked.info.x;
-  if (kind == 0) return s.albedo * frame.ambient.rgb;
-  float k = baked.intensity.x;
-  vec3 uv = vec3(s.uv1, 0.0);
-  if (kind == 1) return s.albedo * k * SAMPLE_LIGHTMAP(uv).rgb * s.n_z;
-  vec3 n = s.n_ts;
-  if (kind == 2) {
-    const vec3 b0 = vec3(0.816496581, 0.0, 0.577350269);
-    const vec3 b1 = vec3(-0.408248290, 0.707106781, 0.577350269);
-    const vec3 b2 = vec3(-0.408248290, -0.707106781, 0.577350269);
-    vec3 w = max(vec3(dot(n, b0), dot(n, b1), dot(n, b2)), 0.0);
-    w *= w;
-    w /= max(w.x + w.y + w.z, 1e-6);
-    vec3 l = w.x * SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb + w.y * SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb +
-             w.z * SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;
-    return s.albedo * k * l;
-  }
-  if (kind == 4) {
-    vec3 a = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;
-    vec3 c = SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb;
-    // Not renormalised: between texels of different directions the blend is shorter, a
-    // wider lobe, and on the baked normal the result stays the blend of the texels' exact
-    // E/π but for −Cov(C, d_z) over the filter's weights (renormalising can push d_z to 1).
-    vec3 d = SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;
-    return s.albedo * k * max(a + c * max(dot(n, d), 0.0), 0.0);
-  }
-  vec3 c0 = SAMPLE_LIGHTMAP(vec3(s.uv1, 0.0)).rgb;
-  vec3 c1 = SAMPLE_LIGHTMAP(vec3(s.uv1, 1.0)).rgb;  // y
-  vec3 c2 = SAMPLE_LIGHTMAP(vec3(s.uv1, 2.0)).rgb;  // z
-  vec3 c3 = SAMPLE_LIGHTMAP(vec3(s.uv1, 3.0)).rgb;  // x
-  vec3 e = sh_irradiance_over_pi_l1(c0, c1, c2, c3, n);
-  return s.albedo * k * max(e, 0.0);
+#include "lighting_inputs.glsl"
+
+// The ambient term: the lighting inputs' indirect term (or the neutral albedo · ambient
+// constant where none gives one) times their occlusion, unless it holds its own visibility,
+// plus their specular and extra radiance. `draw`: the draw's index (colour passes push it
+// as push.draw), for the probes; `frag`: the pixel's gl_FragCoord.xy, for screen-space inputs.
+vec3 ambient_indirect(Surface s, LightingTerms t) {
+  return t.has_indirect ? t.indirect : s.albedo * frame.ambient.rgb;
 }
 
-// Whether ambient_term_for's value already holds the surface's own visibility: PRT transfer
-// (baked shadowed or interreflected: the visibility rays are in it), unless the draw is a
-// probed dynamic object (its probes know nothing of nearby occluders). SSAO must not
-// darken such a term again (docs/realtime.md "SSAO"). An unshadowed PRT bake is treated the
-// same: the renderer does not know the bake's mode, and unshadowed is the closed-form test mode.
-bool ambient_term_includes_visibility(int draw) {
-  int cube = draw < baked.info.z ? draw_cubes[draw] : 0;
-  return cube == 0 && baked.info.y != kPrtNone;
-}
-
-vec3 ambient_term(Surface s) {
-  return ambient_term_for(s, push.view_index);
+vec3 ambient_term(Surface s, int draw, vec2 frag) {
+  LightingTerms t = gather_lighting_inputs(s, draw, frag);
+  return ambient_indirect(s, t) * indirect_occlusion(t) + t.specular + t.extra;
 }
 
 #endif

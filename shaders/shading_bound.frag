@@ -11,7 +11,7 @@ layout(location = 0) out vec4 out_color;
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   Surface s = gbuffer_surface(pixel, texelFetch(g_depth, pixel, 0).r);
-  vec3 v = normalize(frame.camera_pos.xyz - s.p);
+  vec3 v = normalize(views[push.view].camera_pos.xyz - s.p);
   vec3 color = texelFetch(g_emission_ambient, pixel, 0).rgb + direct_light(s, v, gl_FragCoord.xy);
   out_color = vec4(color, 1.0);
 }

@@ -5,5 +5,5 @@ layout(location = 0) out vec3 out_world;
 void main() {
   vec4 world = push.model * vec4(in_position, 1.0);
   out_world = world.xyz;
-  gl_Position = shadow_views[push.view_index] * world;
+  gl_Position = views[push.view].view_proj * world;
 }

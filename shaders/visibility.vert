@@ -9,6 +9,6 @@ layout(location = 0) flat out uint first_triangle;
 
 void main() {
   vec4 world = push.model * vec4(in_position, 1.0);
-  gl_Position = frame.view_proj * world;
+  gl_Position = views[push.view].view_proj * world;
   first_triangle = uint(gl_InstanceIndex);
 }

@@ -19,7 +19,7 @@ void main() {
       imageStore(hdr_image, pixel, vec4(0.0));
     } else {
       uint id = texelFetch(vis_ids, pixel, 0).r;
-      uint slot = uint(draws[id >> uint(push.pad)].info.w);
+      uint slot = uint(draws[id >> uint(push.mode)].info.w);
       atomicOr(slots[slot >> 5], 1u << (slot & 31u));
     }
   }

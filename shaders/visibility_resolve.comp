@@ -5,7 +5,7 @@
 // matrix, tangent, both UV sets), and the barycentrics of the rays through the next pixel
 // right and below, on the same plane, give the UV derivatives for the texture LOD (the
 // fragment path's are finite differences over 2×2 quads). The surface then goes through
-// lighting.glsl's own load_surface, ambient_term_for and light_contribution with the same
+// lighting.glsl's own load_surface, ambient_term and light_contribution with the same
 // shadow lookups, into the HDR target (emission + ambient + lights, written once).
 //
 // One indirect dispatch per material in use (push.material, its textures bound as set 1
@@ -35,9 +35,9 @@ vec4 vertex_vec4(uint v, int offset) {
 // The camera ray through `pixel` (a pixel-centre position in pixels) as the rasterizer sees
 // it: the inverse view-projection of two depths along it.
 void pixel_ray(vec2 pixel, out vec3 origin, out vec3 dir) {
-  vec2 ndc = pixel * frame.extent.zw * 2.0 - 1.0;
-  vec4 a = frame.inv_view_proj * vec4(ndc, 0.0, 1.0);
-  vec4 b = frame.inv_view_proj * vec4(ndc, 0.5, 1.0);
+  vec2 ndc = pixel * views[push.view].extent.zw * 2.0 - 1.0;
+  vec4 a = views[push.view].inv_view_proj * vec4(ndc, 0.0, 1.0);
+  vec4 b = views[push.view].inv_view_proj * vec4(ndc, 0.5, 1.0);
   origin = a.xyz / a.w;
   dir = b.xyz / b.w - origin;
 }
@@ -63,7 +63,7 @@ void main() {
   if (any(greaterThanEqual(pixel, ivec2(frame.extent.xy)))) return;
   if (empty_pixel(pixel)) return;  // written by the classification
   uint id = texelFetch(vis_ids, pixel, 0).r;
-  int tri_bits = push.pad;
+  int tri_bits = push.mode;
   uint draw = id >> uint(tri_bits);
   uint triangle = id & ((1u << uint(tri_bits)) - 1u);
   DrawData dd = draws[draw];
@@ -100,12 +100,12 @@ void main() {
   vec4 t = b.x * vertex_vec4(v0, 6) + b.y * vertex_vec4(v1, 6) + b.z * vertex_vec4(v2, 6);
   vec4 tangent = vec4(mat3(dd.model) * t.xyz, t.w);
 
-  vec3 v = normalize(frame.camera_pos.xyz - world);
+  vec3 v = normalize(views[push.view].camera_pos.xyz - world);
   vec3 n = normalize(normal);
   Surface s = load_surface(dd.info.x, world, n, tangent, uv, dot(n, v) >= 0.0);
-  if (baked.info.y == kPrtVertices)  // forward.vert's per-vertex relighting, interpolated
+  if (prt_input.info.x == kPrtVertices)  // forward.vert's per-vertex relighting, interpolated
     s.prt_vertex = b.x * prt_point_relit(v0) + b.y * prt_point_relit(v1) + b.z * prt_point_relit(v2);
-  vec3 color = s.emission + ambient_term_for(s, int(draw));
+  vec3 color = s.emission + ambient_term(s, int(draw), centre);
   int first_light = frame.counts.z >= 0 ? frame.counts.z : 0;
   int last_light = frame.counts.z >= 0 ? frame.counts.z + 1 : frame.counts.x;
   for (int i = first_light; i < last_light; ++i) {

@@ -36,9 +36,24 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
   small.array = true;
   dummy_array_ = gpu::GpuImage(context, small);
   small.array = false;
+  // Depth 2: a depth of 1 is a 2-D image (gpu_image.h).
+  small.depth = 2;
+  dummy_3d_ = gpu::GpuImage(context, small);
+  small.depth = 1;
   const Image far_moments(1, 1, 2, 1.0f);
   for (uint32_t l = 0; l < 6; ++l) dummy_cube_.upload(far_moments, l);
   dummy_2d_.upload(Image(1, 1, 2, 0.0f));
+  // upload() fills 2-D images only: the 3-D dummy is cleared.
+  context.immediate([&](VkCommandBuffer c) {
+    dummy_3d_.transition(c, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_CLEAR_BIT,
+                         VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkClearColorValue zero{};
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(c, dummy_3d_.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &zero, 1,
+                         &all);
+    dummy_3d_.transition(c, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                         VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  });
   dummy_array_.upload(far_moments);
   small.format = VK_FORMAT_R8G8B8A8_UNORM;
   dummy_white_ = gpu::GpuImage(context, small);
@@ -51,24 +66,31 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
                            gpu::MemoryUsage::kUpload);
   lights_ = gpu::Buffer(context, std::max<size_t>(1, light_count) * sizeof(GpuLight),
                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
+  // Zeroed, so a view no technique wrote is a degenerate camera, not garbage.
+  const std::vector<GpuView> no_views(kMaxViews, GpuView{});
+  views_ = gpu::Buffer(context, kMaxViews * sizeof(GpuView), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                       gpu::MemoryUsage::kUpload);
+  views_.write(no_views.data(), kMaxViews * sizeof(GpuView));
+  view_used_.assign(kMaxViews, false);
+  view_used_[0] = true;  // the frame's camera
 
   layouts_.resize(kShadingSets);
-  layouts_[kFrameSet] = gpu::DescriptorSetLayout(context, {B{0, kUbo}, B{1, kSsbo}, B{2, kSsbo}});
+  layouts_[kFrameSet] =
+      gpu::DescriptorSetLayout(context, {B{0, kUbo}, B{1, kSsbo}, B{2, kSsbo}, B{3, kSsbo}});
   layouts_[kMaterialSet] = gpu::DescriptorSetLayout(
       context, {B{0, kTexture}, B{1, kTexture}, B{2, kTexture}, B{3, kTexture}});
   layouts_[kPipelineSet] = gpu::DescriptorSetLayout(context, {});
   layouts_[kShadowSet] = gpu::DescriptorSetLayout(
       context,
       {B{0, kUbo}, B{1, kSsbo}, B{2, kTexture}, B{3, kTexture}, B{4, kTexture}, B{5, kSsbo}});
-  layouts_[kBakedSet] =
-      gpu::DescriptorSetLayout(context, {B{0, kUbo}, B{1, kTexture}, B{2, kSsbo}, B{3, kSsbo},
-                                         B{4, kSsbo}, B{5, kSsbo}, B{6, kSsbo}});
+  layouts_[kInputsSet] = gpu::DescriptorSetLayout(context, lighting_inputs_layout());
 
   gpu::DescriptorWriter w;
   frame_set_ = descriptors_.allocate(layouts_[kFrameSet]);
   w.buffer(frame_set_, 0, kUbo, frame_ubo_.handle())
       .buffer(frame_set_, 1, kSsbo, scene.materials().handle())
-      .buffer(frame_set_, 2, kSsbo, lights_.handle());
+      .buffer(frame_set_, 2, kSsbo, lights_.handle())
+      .buffer(frame_set_, 3, kSsbo, views_.handle());
   const Scene& sc = scene.scene();
   auto texture_view = [&](int index) {
     return index >= 0 && static_cast<size_t>(index) < scene.textures().size()
@@ -85,7 +107,7 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
     material_sets_.push_back(set);
   }
 
-  // Neutral sets: no shadow lookups (mode 0), no baked lighting (kind 0, no PRT, no probes).
+  // Neutral sets: no shadow lookups (mode 0), no lighting input active.
   neutral_sets_.assign(kShadingSets, VK_NULL_HANDLE);
   neutral_sets_[kPipelineSet] = descriptors_.allocate(layouts_[kPipelineSet]);
   const ShadowUniforms no_shadows{};
@@ -100,19 +122,9 @@ FrameGlobals::FrameGlobals(gpu::Context& context, const GpuScene& scene, size_t 
       .image(shadow, 3, kTexture, dummy_array_.view(), nearest_.handle(), kReadOnly)
       .image(shadow, 4, kTexture, dummy_array_.view(), nearest_.handle(), kReadOnly)
       .buffer(shadow, 5, kSsbo, dummy_buffer_.handle());
-  const BakedUniforms no_baked{};
-  neutral_baked_ubo_ = gpu::Buffer(context, sizeof(BakedUniforms),
-                                   VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUsage::kUpload);
-  neutral_baked_ubo_.write(&no_baked, sizeof(no_baked));
-  const VkDescriptorSet baked = neutral_sets_[kBakedSet] =
-      descriptors_.allocate(layouts_[kBakedSet]);
-  w.buffer(baked, 0, kUbo, neutral_baked_ubo_.handle())
-      .image(baked, 1, kTexture, dummy_array_.view(), clamp_linear_.handle(), kReadOnly)
-      .buffer(baked, 2, kSsbo, dummy_buffer_.handle())
-      .buffer(baked, 3, kSsbo, dummy_buffer_.handle())
-      .buffer(baked, 4, kSsbo, dummy_buffer_.handle())
-      .buffer(baked, 5, kSsbo, dummy_buffer_.handle())
-      .buffer(baked, 6, kSsbo, dummy_buffer_.handle());
+  neutral_inputs_ = make_lighting_inputs_zeros(context);
+  neutral_sets_[kInputsSet] = descriptors_.allocate(layouts_[kInputsSet]);
+  write_neutral_lighting_inputs(w, neutral_sets_[kInputsSet], *this, neutral_inputs_.handle());
   quad_counter_ =
       gpu::Buffer(context, 2 * sizeof(uint32_t),
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
@@ -194,6 +206,83 @@ void FrameGlobals::update(const FrameView& view, const RenderSettings& s, size_t
   u.extent = vec4(static_cast<float>(width), static_cast<float>(height),
                   1.0f / static_cast<float>(width), 1.0f / static_cast<float>(height));
   frame_ubo_.write(&u, sizeof(u));
+  write_view(0, view, {width, height});
+}
+
+FrameView camera_view(const Camera& camera, const Bounds3& b, uint32_t width, uint32_t height) {
+  FrameView view;
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const float dist = glm::length(camera.position - b.center());
+  view.far_plane = std::max(dist + b.diagonal(), 1e-3f) * 1.01f;
+  // 1e-3: float depth then resolves ~1e-4 of the distance at 2 m in a 4 m scene, well
+  // below the shadow-volume cap offset.
+  view.near_plane = view.far_plane * 1e-3f;
+  view.aspect = aspect;
+  view.camera = camera;
+  view.view = camera.view_matrix();
+  view.proj = camera.projection_matrix(aspect, view.near_plane, view.far_plane);
+  view.view_proj = view.proj * view.view;
+  view.inv_view_proj = glm::inverse(view.view_proj);
+  return view;
+}
+
+ViewSlots FrameGlobals::add_views(uint32_t count) {
+  uint32_t run = 0;
+  for (uint32_t i = 0; i < kMaxViews && count > 0; ++i) {
+    run = view_used_[i] ? 0 : run + 1;
+    if (run < count) continue;
+    ViewSlots slots;
+    slots.owner_ = this;
+    slots.first_ = i + 1 - count;
+    slots.count_ = count;
+    for (uint32_t k = slots.first_; k <= i; ++k) view_used_[k] = true;
+    return slots;
+  }
+  if (count == 0) return ViewSlots();
+  const auto used = std::count(view_used_.begin(), view_used_.end(), true);
+  throw Error(fmt::format("the camera block has no room for {} more views ({} of {} in use)", count,
+                          used, kMaxViews));
+}
+
+void FrameGlobals::set_view(uint32_t index, const FrameView& view, VkExtent2D extent) {
+  ILLUM_CHECK(index > 0 && index < kMaxViews && view_used_[index],
+              "view {} of the camera block was not added", index);
+  write_view(index, view, extent);
+}
+
+void FrameGlobals::write_view(uint32_t index, const FrameView& view, VkExtent2D extent) {
+  GpuView v{};
+  v.view = view.view;
+  v.proj = view.proj;
+  v.view_proj = view.view_proj;
+  v.inv_view_proj = view.inv_view_proj;
+  v.camera_pos = vec4(view.camera.position, 0.0f);
+  const float w = static_cast<float>(extent.width), h = static_cast<float>(extent.height);
+  v.extent = vec4(w, h, 1.0f / w, 1.0f / h);
+  v.planes = vec4(view.near_plane, view.far_plane, 0.0f, 0.0f);
+  views_.write(&v, sizeof(v), index * sizeof(GpuView));
+}
+
+ViewSlots& ViewSlots::operator=(ViewSlots&& o) noexcept {
+  if (this != &o) {
+    release();
+    owner_ = std::exchange(o.owner_, nullptr);
+    first_ = o.first_;
+    count_ = std::exchange(o.count_, 0);
+  }
+  return *this;
+}
+
+uint32_t ViewSlots::operator[](uint32_t k) const {
+  ILLUM_CHECK(k < count_, "view slot {} of {}", k, count_);
+  return first_ + k;
+}
+
+void ViewSlots::release() {
+  if (!owner_) return;
+  for (uint32_t k = 0; k < count_; ++k) owner_->view_used_[first_ + k] = false;
+  owner_ = nullptr;
+  count_ = 0;
 }
 
 void bind_shading_sets(VkCommandBuffer cmd, VkPipelineBindPoint point, VkPipelineLayout layout,

@@ -1,11 +1,12 @@
-// The frame's globals every technique shares: set 0 (frame uniforms, materials, lights:
-// shaders/common.glsl), set 1 (per-material textures), the layouts of the shading slots a
-// technique fills with its own set (2: the frame pipeline's, 3: the shadow method's,
-// shaders/shadow_set.glsl; 4: baked lighting, shaders/baked.glsl) with a neutral set for
-// each when no technique fills it, the samplers and the 1×1 dummy textures that keep
+// The frame's globals every technique shares: set 0 (frame uniforms, materials, lights, the
+// camera block of views: shaders/common.glsl), set 1 (per-material textures), the layouts of the
+// shading slots a technique fills with its own set (2: the frame pipeline's, 3: the shadow
+// method's, shaders/shadow_set.glsl; 4: the lighting inputs, lighting_inputs.h) with a neutral set
+// for each when no technique fills it, the samplers and the 1×1 dummy textures that keep
 // descriptors valid when a feature is off.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "illum/gpu/buffer.h"
@@ -23,8 +24,40 @@ inline constexpr uint32_t kFrameSet = 0;
 inline constexpr uint32_t kMaterialSet = 1;
 inline constexpr uint32_t kPipelineSet = 2;
 inline constexpr uint32_t kShadowSet = 3;
-inline constexpr uint32_t kBakedSet = 4;
+// kInputsSet = 4: the lighting inputs (lighting_inputs_bindings.h).
 inline constexpr uint32_t kShadingSets = 5;
+// Views the camera block holds (view 0 included): the shadow maps take up to 6 × 8 cube faces,
+// 16 spot maps and 4 cascades.
+inline constexpr uint32_t kMaxViews = 256;
+
+class FrameGlobals;
+
+// The view a frame is drawn with from `camera` (view 0 of the camera block; a technique may
+// add another camera's the same way): the far plane just beyond the scene's `bounds`, the near
+// one 1e-3 of it, the aspect of `width` × `height`.
+FrameView camera_view(const Camera& camera, const Bounds3& bounds, uint32_t width, uint32_t height);
+
+// Views of the camera block a technique holds (FrameGlobals::add_views), given back when
+// destroyed.
+class ViewSlots {
+ public:
+  ViewSlots() = default;
+  ViewSlots(ViewSlots&& o) noexcept { *this = std::move(o); }
+  ViewSlots& operator=(ViewSlots&& o) noexcept;
+  ViewSlots(const ViewSlots&) = delete;
+  ViewSlots& operator=(const ViewSlots&) = delete;
+  ~ViewSlots() { release(); }
+
+  uint32_t size() const { return count_; }
+  // The block index of this holder's view k (push.view, SceneView::view).
+  uint32_t operator[](uint32_t k) const;
+
+ private:
+  friend class FrameGlobals;
+  void release();
+  FrameGlobals* owner_ = nullptr;
+  uint32_t first_ = 0, count_ = 0;
+};
 
 class FrameGlobals {
  public:
@@ -38,13 +71,14 @@ class FrameGlobals {
   const gpu::GpuImage& dummy_cube() const { return dummy_cube_; }    // RG32F cube array (1, 1)
   const gpu::GpuImage& dummy_array() const { return dummy_array_; }  // RG32F 2-D array (1, 1)
   const gpu::GpuImage& dummy_2d() const { return dummy_2d_; }        // RG32F (0, 0)
+  const gpu::GpuImage& dummy_3d() const { return dummy_3d_; }        // RG32F 1×1×2, zeros
   const gpu::Buffer& dummy_buffer() const { return dummy_buffer_; }  // 256 zero bytes
 
   // The layout of shading slot `slot` (kPipelineSet: an empty one, for pipelines without
   // their own set).
   const gpu::DescriptorSetLayout& layout(uint32_t slot) const;
   // The set bound at `slot` when no active technique fills it (kShadowSet: no shadow
-  // lookups; kBakedSet: no baked lighting; kPipelineSet: empty).
+  // lookups; kInputsSet: no lighting input active; kPipelineSet: empty).
   VkDescriptorSet neutral_set(uint32_t slot) const;
   VkDescriptorSet frame_set() const { return frame_set_; }
   // Materials out of range (none in the scene) use the last (or a default) one.
@@ -64,15 +98,30 @@ class FrameGlobals {
   VkPipelineLayout quad_count_layout() const { return quad_count_layout_.handle(); }
 
   void upload_lights(const std::vector<Light>& lights);
-  // The frame uniforms: the camera, and the lighting globals from `settings`.
+  // The frame uniforms: the camera (also view 0 of the camera block), and the lighting globals
+  // from `settings`.
   void update(const FrameView& view, const RenderSettings& settings, size_t light_count,
               uint32_t width, uint32_t height);
+
+  // The camera block (set 0, binding 3: common.glsl `views`): every view a scene-draw variant
+  // can draw from, by index (SceneView::view → push.view). View 0 is the frame's camera.
+  // `count` further contiguous views, held until the returned slots are destroyed; throws
+  // Error when the block has no room.
+  ViewSlots add_views(uint32_t count);
+  // Writes view `index` (an added one; the block is host-visible and read by the frame being
+  // recorded, so write before recording it): `view`'s matrices, camera position and planes as
+  // given, and the target's `extent`.
+  void set_view(uint32_t index, const FrameView& view, VkExtent2D extent);
 
  private:
   gpu::Context& context_;
   gpu::Sampler linear_, nearest_, clamp_linear_;
-  gpu::GpuImage dummy_cube_, dummy_array_, dummy_2d_, dummy_white_;
-  gpu::Buffer dummy_buffer_, frame_ubo_, lights_, neutral_shadow_ubo_, neutral_baked_ubo_;
+  gpu::GpuImage dummy_cube_, dummy_array_, dummy_2d_, dummy_3d_, dummy_white_;
+  gpu::Buffer dummy_buffer_, frame_ubo_, lights_, neutral_shadow_ubo_, neutral_inputs_;
+  friend class ViewSlots;
+  void write_view(uint32_t index, const FrameView& view, VkExtent2D extent);
+  gpu::Buffer views_;
+  std::vector<bool> view_used_;  // per view of the block
   gpu::DescriptorAllocator descriptors_;
   std::vector<gpu::DescriptorSetLayout> layouts_;  // per slot
   VkDescriptorSet frame_set_ = VK_NULL_HANDLE;

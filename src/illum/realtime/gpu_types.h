@@ -1,5 +1,5 @@
 // CPU mirrors of the structures in shaders/common.glsl (set 0), shadow_set.glsl (set 3) and
-// baked.glsl (set 4): vec4-aligned, std140/std430 alike.
+// the lighting inputs (set 4, shaders/inputs/): vec4-aligned, std140/std430 alike.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +33,18 @@ struct FrameUniforms {
   glm::vec4 extent;
 };
 
+// One view of the camera block (set 0, binding 3: common.glsl `views`): view 0 is the
+// frame's camera; techniques add further ones (FrameGlobals::add_views).
+struct GpuView {
+  glm::mat4 view;
+  glm::mat4 proj;
+  glm::mat4 view_proj;
+  glm::mat4 inv_view_proj;
+  glm::vec4 camera_pos;  // xyz
+  glm::vec4 extent;      // width, height, 1/width, 1/height
+  glm::vec4 planes;      // near, far
+};
+
 // Set 3, the shadow method's: shadow_set.glsl.
 enum class ShadowLookup : int { kNone = 0, kMap = 1, kVsm = 2 };
 struct ShadowUniforms {
@@ -45,27 +57,34 @@ struct GpuShadowLight {
   glm::vec4 params;  // far distance (cascades: 4 half-widths), spot tan(half fov)
 };
 
-// Set 4, baked lighting: baked.glsl.
+// Set 4, the lighting inputs' blocks: shaders/inputs/*.glsl.
 inline constexpr int kMaxPrtCoefficients = 64;  // 8 bands
-inline constexpr int kProbeLookupPixel = 1;     // probe_size.w: the per-pixel volume lookup
-struct BakedUniforms {
-  glm::ivec4 info;  // light-map kind, PRT lookup (PrtLookup), entries of draw_cubes, bands²
+inline constexpr int kProbeLookupPixel = 1;     // size.w: the per-pixel volume lookup
+struct ProbesInputUniforms {                    // inputs/probes.glsl
+  glm::ivec4 size;    // probe grid nx, ny, nz; w: kProbeLookupPixel or 0 (ambient cubes)
+  glm::vec4 origin;   // xyz: probe (0, 0, 0)
+  glm::vec4 spacing;  // xyz
+  glm::ivec4 info;    // entries of draw_cubes
+};
+struct PrtInputUniforms {  // inputs/prt.glsl
+  glm::ivec4 info;         // PRT lookup (PrtLookup), bands²
+  glm::ivec4 size;         // atlas width, height; halves per point (3·bands² rounded up to even)
+  glm::vec4 light[kMaxPrtCoefficients];
+};
+struct LightmapInputUniforms {  // inputs/lightmap.glsl
+  glm::ivec4 info;              // light-map kind
   glm::vec4 intensity;
-  glm::ivec4 prt_size;      // atlas width, height; halves per point (3·bands² rounded up to even)
-  glm::ivec4 probe_size;    // probe grid nx, ny, nz; w: kProbeLookupPixel or 0 (ambient cubes)
-  glm::vec4 probe_origin;   // xyz: probe (0, 0, 0)
-  glm::vec4 probe_spacing;  // xyz
-  glm::vec4 prt_light[kMaxPrtCoefficients];
 };
 
 struct PushConstants {
   glm::mat4 model;
   int32_t material = 0;
-  int32_t view_index = 0;
+  int32_t view = 0;  // the camera block's view the draw is seen from
+  int32_t draw = 0;  // the draw item's index (colour passes; 0 in depth-like ones)
   int32_t light_index = 0;
-  int32_t pad = 0;
+  int32_t mode = 0;  // the variant's switch (forward.frag's lights; visibility's id bits)
 };
-static_assert(sizeof(PushConstants) == 80);
+static_assert(sizeof(PushConstants) == 84);
 
 struct Vertex {
   glm::vec3 position;

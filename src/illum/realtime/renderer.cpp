@@ -58,6 +58,7 @@ struct Renderer::Impl {
   RenderSettings settings;
   VkFormat depth_format;
   FrameGlobals globals;
+  LightingInputs inputs;
   FrameResources resources;
   OcclusionCuller occlusion;
   SceneDrawer drawer;
@@ -83,6 +84,7 @@ struct Renderer::Impl {
         settings(settings_in),
         depth_format(gpu::pick_depth_stencil_format(c)),
         globals(c, scene, lights.size()),
+        inputs(c, globals),
         resources(c),
         occlusion(c, scene, resources),
         drawer(scene, globals, &occlusion),
@@ -96,19 +98,20 @@ struct Renderer::Impl {
     tctx.shadow_method_ = [this] {
       return dynamic_cast<ShadowMethod*>(technique(settings.shadows));
     };
+    tctx.lighting_inputs_ = &inputs;
     tctx.shading_sets_ = [this](VkDescriptorSet pipeline_set) {
       std::array<VkDescriptorSet, 3> sets = {
           pipeline_set ? pipeline_set : globals.neutral_set(kPipelineSet),
-          globals.neutral_set(kShadowSet), globals.neutral_set(kBakedSet)};
+          globals.neutral_set(kShadowSet), inputs.set()};
       for (const Technique* t : active())
-        if (t->shading_slot() >= static_cast<int>(kShadowSet))
-          sets[static_cast<size_t>(t->shading_slot()) - kPipelineSet] = t->shading_set();
+        if (t->shading_slot() == static_cast<int>(kShadowSet)) sets[1] = t->shading_set();
       return sets;
     };
-    tctx.shading_reads_ = [this](VkPipelineStageFlags2 shaders) {
+    tctx.shading_reads_ = [this](VkPipelineStageFlags2 shaders, InputReads which) {
       std::vector<Access> reads;
       for (const Technique* t : active())
         for (const std::string& r : t->shading_reads()) reads.push_back({r, kSampled, shaders});
+      for (const Access& a : inputs.reads(shaders, which)) reads.push_back(a);
       return reads;
     };
     tctx.graph_ = [this] { return graph.get(); };
@@ -152,9 +155,24 @@ struct Renderer::Impl {
     return out;
   }
 
-  std::unique_ptr<FrameGraph> assemble(const std::vector<Technique*>& list) const {
+  static std::vector<LightingContribution> contributions(const std::vector<Technique*>& list) {
+    std::vector<LightingContribution> out;
+    for (const Technique* t : list)
+      for (LightingContribution& c : t->lighting_inputs()) out.push_back(std::move(c));
+    return out;
+  }
+
+  std::unique_ptr<FrameGraph> assemble(const std::vector<Technique*>& list) {
     auto g = std::make_unique<FrameGraph>();
-    for (Technique* t : list) t->declare(*g);
+    // Which inputs are active, and what their passes read, before anything declares.
+    inputs.set_reads(contributions(list));
+    // The pipeline declares first: its shading pass and the stencil volumes' per-light
+    // passes both run in the lighting phase, and the lights add onto what the shading wrote.
+    std::vector<Technique*> order = list;
+    std::stable_partition(order.begin(), order.end(), [](const Technique* t) {
+      return dynamic_cast<const FramePipeline*>(t) != nullptr;
+    });
+    for (Technique* t : order) t->declare(*g);
     g->require("ldr", "the 8-bit output needs the tonemap add-on (do not --disable tonemap)");
     g->compile();
     return g;
@@ -239,25 +257,16 @@ struct Renderer::Impl {
     for (const std::string& created : resources.realize(*graph, globals_width(), globals_height()))
       graph->invalidate_writers(created);
     for (const auto& t : techniques) t->bind();
+    std::vector<Technique*> list;
+    for (const auto& t : techniques) list.push_back(t.get());
+    inputs.bind(contributions(list));
   }
 
   uint32_t globals_width() const { return static_cast<uint32_t>(settings.width); }
   uint32_t globals_height() const { return static_cast<uint32_t>(settings.height); }
 
   void update_view(const Camera& camera) {
-    const float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
-    const Bounds3 b = scene.bounds();
-    const float dist = glm::length(camera.position - b.center());
-    view.far_plane = std::max(dist + b.diagonal(), 1e-3f) * 1.01f;
-    // 1e-3: float depth then resolves ~1e-4 of the distance at 2 m in a 4 m scene, well
-    // below the shadow-volume cap offset.
-    view.near_plane = view.far_plane * 1e-3f;
-    view.aspect = aspect;
-    view.camera = camera;
-    view.view = camera.view_matrix();
-    view.proj = camera.projection_matrix(aspect, view.near_plane, view.far_plane);
-    view.view_proj = view.proj * view.view;
-    view.inv_view_proj = glm::inverse(view.view_proj);
+    view = camera_view(camera, scene.bounds(), globals_width(), globals_height());
     view.index = frame_index;
   }
 
@@ -360,9 +369,18 @@ Image Renderer::hdr() {
 
 Image Renderer::read_resource(const std::string& name, uint32_t layer) {
   Impl& m = *impl_;
-  if (!m.resources.has_image(name)) throw Error("no frame image named '" + name + "'");
-  gpu::GpuImage& image = m.resources.image(name);
-  if (layer >= image.desc().layers)
+  // A history resource: "NAME" and "NAME.previous" are the copies the graph names so now.
+  const std::string suffix = ".previous";
+  const bool previous = name.size() > suffix.size() && name.ends_with(suffix);
+  const std::string base = previous ? name.substr(0, name.size() - suffix.size()) : name;
+  if (!m.resources.has_image(base) ||
+      (previous && !(m.graph && m.graph->has_resource(base) && m.graph->resource(base).history)))
+    throw Error("no frame image named '" + name + "'");
+  const int copy = m.graph && m.graph->has_resource(base) ? m.graph->copy_index(name) : 0;
+  gpu::GpuImage& image = m.resources.image(base, copy);
+  // A 3-D image's "layers" are its depth slices.
+  const uint32_t layers = image.desc().depth > 1 ? image.desc().depth : image.desc().layers;
+  if (layer >= layers)
     throw Error("frame resource '" + name + "' has no layer " + std::to_string(layer));
   if (!(image.desc().usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT))
     throw Error("frame resource '" + name + "' is not declared readable (extra_usage)");

@@ -144,9 +144,9 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
       cmd, position_only ? scene_.position_indices().handle() : scene_.indices().handle(), 0,
       VK_INDEX_TYPE_UINT32);
   PushConstants push{};
-  push.view_index = view.view_index;
+  push.view = view.view;
   push.light_index = view.light_index;
-  push.pad = view.mode;
+  push.mode = view.mode;
   const std::vector<Cluster>& clusters = scene_.clusters();
   VkDescriptorSet bound = VK_NULL_HANDLE;
   int pushed_draw = -1;
@@ -170,7 +170,7 @@ SceneDrawer::Drawn SceneDrawer::draw_clusters(VkCommandBuffer cmd, const gpu::Pi
     const DrawItem& d = scene_.draws()[first.draw];
     if (pushed_draw != static_cast<int>(first.draw)) {
       pushed_draw = static_cast<int>(first.draw);
-      if (view.per_draw) push.view_index = static_cast<int>(first.draw);
+      if (view.per_draw) push.draw = static_cast<int>(first.draw);
       push.model = view.clip_from_world ? *view.clip_from_world * d.transform : d.transform;
       push.material = position_only ? 0 : globals_.material_index(d.material);
       const VkDescriptorSet material = globals_.material_set(push.material);

@@ -1,8 +1,9 @@
 // The one "draw the scene from view V with variant P into targets T" service: shadow maps
 // (cube faces, spot maps, cascades), the forward and G-buffer passes (a depth pre-pass, then
-// shading), the forward pass of stencil-masked lights — and later reflective shadow maps
-// and cube-map captures. A variant is a gpu::Pipeline built on a shading layout
-// (FrameGlobals::shading_layout); the view is what goes into the push constants.
+// shading), the forward pass of stencil-masked lights — and any technique's own views
+// (reflective shadow maps, cube-map captures). A variant is a gpu::Pipeline built on a shading
+// layout (FrameGlobals::shading_layout); the view is a camera of FrameGlobals' camera block,
+// named in the push constants (push.view), which every variant's vertex stage reads.
 #pragma once
 
 #include <array>
@@ -48,10 +49,13 @@ struct DrawTargets {
   uint32_t depth_layer = 0;  // the layer `depth` views, when the resource has several
 };
 
-// What the push constants say about the view: shadow passes name their shadow view and
-// light; colour passes (per_draw) push each draw's index instead, for per-draw data such as
-// the ambient cube (baked.glsl). `mode` goes to push.pad (forward.frag: 0 all lights,
-// 1 emission + ambient only, 2 the one light light_index, unshadowed).
+// What the push constants say about the view: `view` is the camera block's view every variant
+// draws from (push.view: view 0 the frame's camera, others added by a technique,
+// FrameGlobals::add_views); shadow passes also name their light. Colour passes (per_draw) push
+// each draw's index as push.draw, for per-draw data such as the ambient cube (shaders/inputs/probes.glsl);
+// depth-like ones leave it 0, so draws sharing a transform push nothing. `mode` goes to
+// push.mode (forward.frag: 0 all lights, 1 emission + ambient only, 2 the one light
+// light_index, unshadowed).
 //
 // `cull`, when set, is the view's clip transform (world to clip): clusters wholly outside its
 // clip volume are not drawn — exactly what the clipper would discard, so the image does not
@@ -62,7 +66,7 @@ struct DrawTargets {
 // A draw's first instance (gl_InstanceIndex) is its first triangle within the mesh, so
 // gl_InstanceIndex + gl_PrimitiveID numbers the mesh's triangles whatever the clusters drawn.
 struct SceneView {
-  int view_index = 0;
+  int view = 0;
   int light_index = 0;
   int mode = 0;
   bool per_draw = true;
@@ -88,15 +92,25 @@ struct SceneView {
   Occlusion occlusion = Occlusion::kNone;
   std::string occlusion_key;
 
-  // A colour or depth pass from the camera (`view_proj`: the frame's); occlusion culled
+  // A colour or depth pass from the frame's camera, view 0 (`view_proj`: its); occlusion culled
   // against the camera's depth ("camera") as `occlusion` says.
   static SceneView camera(const mat4& view_proj, bool front_to_back,
                           Occlusion occlusion = Occlusion::kNone) {
     SceneView v;
+    v.view = 0;
     v.cull = view_proj;
     v.front_to_back = front_to_back;
     v.occlusion = occlusion;
     v.occlusion_key = "camera";
+    return v;
+  }
+  // A colour or depth pass from the camera block's view `view` (`view_proj`: that view's, for
+  // culling), not occlusion culled.
+  static SceneView from(int view, const mat4& view_proj, bool front_to_back) {
+    SceneView v;
+    v.view = view;
+    v.cull = view_proj;
+    v.front_to_back = front_to_back;
     return v;
   }
 };

@@ -6,6 +6,7 @@
 
 #include "illum/core/log.h"
 #include "illum/gpu/vk_check.h"
+#include "illum/realtime/gpu_types.h"
 #include "illum/realtime/realtime_lights.h"
 
 namespace illum::realtime {
@@ -263,6 +264,9 @@ void StencilShadows::record_stencil(VkCommandBuffer cmd, VkDescriptorSet frame_s
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_layout_, 0, 1, &frame_set,
                           0, nullptr);
+  // Counted against the frame's depth buffer: the volumes are seen from the camera, view 0.
+  const PushConstants push{};
+  vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
   if (what == StencilDraw::kCount) vkCmdSetStencilReference(cmd, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
   const VkDeviceSize offset = 0;
   const VkBuffer vertices = gpu ? outputs_[light].handle() : cpu_vertices_.handle();

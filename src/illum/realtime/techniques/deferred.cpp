@@ -24,6 +24,10 @@ namespace {
 // four fp16 targets).
 const auto& kTargets = kGbufferTargets;
 constexpr uint32_t kUncleared = 0b0111;  // the three G-buffer targets of the MRT set
+// While a screen-space lighting input is active: the indirect term before occlusion and the
+// occlusion it took (shaders/gbuffer_pass.glsl).
+const char* const kIndirectTarget = "gbuffer.indirect";
+constexpr VkFormat kIndirectFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 
 // Unit icosphere (icosahedron subdivided once, 80 faces) for deferred light volumes.
 void icosphere(std::vector<vec3>* positions, std::vector<uint32_t>* indices) {
@@ -62,9 +66,10 @@ class Deferred final : public FramePipeline {
     using B = gpu::DescriptorBinding;
     const auto cis = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     // shaders/gbuffer.glsl; binding 4 (the HDR target as a storage image) is used by the
-    // compute lighting only.
-    set_layout_ = gpu::DescriptorSetLayout(ctx.gpu, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis},
-                                                     B{4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}});
+    // compute passes only, binding 5 ("gbuffer.indirect") by deferred_inputs.comp.
+    set_layout_ =
+        gpu::DescriptorSetLayout(ctx.gpu, {B{0, cis}, B{1, cis}, B{2, cis}, B{3, cis},
+                                           B{4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, B{5, cis}});
     set_ = descriptors_.allocate(set_layout_);
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
     const VkPipelineLayout layout = layout_.handle();
@@ -75,6 +80,7 @@ class Deferred final : public FramePipeline {
     g.depth_compare = VK_COMPARE_OP_EQUAL;
     gbuffer_ = gpu::Pipeline(ctx.gpu, layout, g);
     gbuffer_count_ = CountingPipelines(ctx.gpu, layout, g);
+    gbuffer_desc_ = g;
     gpu::GraphicsPipelineDesc l;
     l.vertex_shader = "deferred_light.vert";
     l.fragment_shader = "deferred_light.frag";
@@ -139,6 +145,24 @@ class Deferred final : public FramePipeline {
       r.extra_usage = VK_IMAGE_USAGE_SAMPLED_BIT;
       graph.add_resource(r);
     }
+    // A screen-space lighting input (SSAO) is written after this G-buffer pass: the pass
+    // then also keeps the indirect term, and "deferred.inputs" applies that input's occlusion.
+    indirect_ = ctx_.lighting_inputs().any_screen_space();
+    if (indirect_) {
+      ResourceDesc r;
+      r.name = kIndirectTarget;
+      r.frame_divisor = 1;
+      r.format = kIndirectFormat;
+      graph.add_resource(r);
+      if (!gbuffer_indirect_.handle()) {
+        gpu::GraphicsPipelineDesc g = gbuffer_desc_;
+        g.fragment_shader = "gbuffer_indirect.frag";
+        g.color_formats.push_back(kIndirectFormat);
+        gbuffer_indirect_ = gpu::Pipeline(ctx_.gpu, layout_.handle(), g);
+        gbuffer_indirect_count_ = CountingPipelines(ctx_.gpu, layout_.handle(), g);
+        inputs_ = gpu::Pipeline(ctx_.gpu, layout_.handle(), "deferred_inputs.comp");
+      }
+    }
     graph.add_pass(DepthPrepass::pass(name(), [this](PassContext& pass) {
       prepass_.record(ctx_, pass, {ctx_.width(), ctx_.height()}, layout_.handle(),
                       ctx_.shading_sets(set_));
@@ -147,11 +171,28 @@ class Deferred final : public FramePipeline {
     g.name = "gbuffer";
     g.technique = name();
     g.phase = Phase::kGeometry;
+    g.accesses = ctx_.shading_reads(kFragmentShader, InputReads::kSurface);
     for (const char* t : kTargets) g.accesses.push_back({t, kColorAttachment});
     g.accesses.push_back({"hdr", kColorAttachment});
+    if (indirect_) g.accesses.push_back({kIndirectTarget, kColorAttachment});
     g.accesses.push_back({"depth", kDepthAttachment});
     g.record = [this](PassContext& pass) { record_gbuffer(pass); };
     graph.add_pass(std::move(g));
+    if (indirect_) {
+      PassDesc in;
+      in.name = "deferred.inputs";
+      in.technique = name();
+      in.phase = Phase::kLighting;
+      const auto cs = kComputeShader;
+      for (const char* t : kTargets) in.accesses.push_back({t, kSampled, cs});
+      in.accesses.push_back({kIndirectTarget, kSampled, cs});
+      in.accesses.push_back({"depth", kSampled, cs});
+      in.accesses.push_back({"hdr", kStorageRead | kStorageWrite, cs});
+      for (const Access& a : ctx_.shading_reads(cs, InputReads::kScreenSpace))
+        in.accesses.push_back(a);
+      in.record = [this](PassContext& pass) { record_inputs(pass); };
+      graph.add_pass(std::move(in));
+    }
     if (masked_) return;  // the shadow volumes' per-light passes add the lights
     PassDesc l;
     l.name = "lighting";
@@ -186,6 +227,9 @@ class Deferred final : public FramePipeline {
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
         .image(set_, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, r.image("hdr").view(), VK_NULL_HANDLE,
                VK_IMAGE_LAYOUT_GENERAL)
+        .image(set_, 5, cis,
+               indirect_ ? r.image(kIndirectTarget).view() : ctx_.globals.dummy_2d().view(),
+               nearest, ro)
         .commit(ctx_.gpu.device());
   }
 
@@ -196,7 +240,7 @@ class Deferred final : public FramePipeline {
     vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
     PushConstants push{};
     push.light_index = light;
-    push.view_index = 1;  // deferred_light.vert: the full-screen triangle
+    push.mode = 1;  // deferred_light.vert: the full-screen triangle
     vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
     vkCmdDraw(c, 3, 1, 0, 0);
   }
@@ -220,18 +264,36 @@ class Deferred final : public FramePipeline {
     // they start undefined. The HDR target is cleared (the background shows it).
     for (const char* name : kTargets) t.colors.push_back({r.image(name).view(), false, {}, true});
     t.colors.push_back({r.image("hdr").view(), true, {}});
+    if (indirect_) t.colors.push_back({r.image(kIndirectTarget).view(), false, {}, true});
     t.depth = r.image("depth").layer_view(0);
     t.clear_depth = false;
     t.stencil = true;
     t.extent = {ctx_.width(), ctx_.height()};
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
-    const std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
+    std::vector<VkFormat> mrt = {kAlbedoFormat, kNormalFormat, kSpecularFormat, kHdrFormat};
+    uint32_t uncleared = kUncleared;
+    if (indirect_) {
+      mrt.push_back(kIndirectFormat);
+      uncleared |= 1u << 4;
+    }
     ctx_.drawer.render_counted(
-        pass, t, gbuffer_, gbuffer_count_, layout_.handle(), ctx_.shading_sets(set_),
+        pass, t, indirect_ ? gbuffer_indirect_ : gbuffer_,
+        indirect_ ? gbuffer_indirect_count_ : gbuffer_count_, layout_.handle(),
+        ctx_.shading_sets(set_),
         SceneView::camera(ctx_.view().view_proj, false, SceneView::Occlusion::kVisibleNow),
-        {w, h, mrt, ctx_.depth_format, D::kTest, false, kUncleared},
-        {w, h, mrt, ctx_.depth_format, D::kReject, false, kUncleared});
+        {w, h, mrt, ctx_.depth_format, D::kTest, false, uncleared},
+        {w, h, mrt, ctx_.depth_format, D::kReject, false, uncleared});
+  }
+
+  // The screen-space inputs' occlusion over the HDR target (shaders/deferred_inputs.comp).
+  void record_inputs(PassContext& pass) {
+    const VkCommandBuffer c = pass.cmd();
+    bind_sets(c, VK_PIPELINE_BIND_POINT_COMPUTE);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, inputs_.handle());
+    const PushConstants push{};
+    vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
+    vkCmdDispatch(c, (ctx_.width() + 7) / 8, (ctx_.height() + 7) / 8, 1);
   }
 
   // One dispatch: every pixel loops over the lights and adds to the HDR target in place.
@@ -269,7 +331,7 @@ class Deferred final : public FramePipeline {
         clear.clearValue.depthStencil = {1.0f, 0};
         VkClearRect rect{{{0, 0}, extent}, 0, 1};
         vkCmdClearAttachments(c, 1, &clear, 1, &rect);
-        push.view_index = 0;
+        push.mode = 0;
         vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
         vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_stencil_.handle());
         vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
@@ -278,7 +340,7 @@ class Deferred final : public FramePipeline {
         vkCmdSetStencilReference(c, VK_STENCIL_FACE_FRONT_AND_BACK, 0);
         vkCmdDrawIndexed(c, sphere_index_count_, 1, 0, 0, 0);
       } else {
-        push.view_index = 1;
+        push.mode = 1;
         vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
         vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_GRAPHICS, light_fullscreen_.handle());
         vkCmdDraw(c, 3, 1, 0, 0);
@@ -287,14 +349,16 @@ class Deferred final : public FramePipeline {
     vkCmdEndRendering(c);
   }
 
-  bool masked_ = false, compute_ = true;
+  bool masked_ = false, compute_ = true, indirect_ = false;
   gpu::DescriptorAllocator descriptors_;
   gpu::DescriptorSetLayout set_layout_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   gpu::PipelineLayout layout_;
   DepthPrepass prepass_;
   gpu::Pipeline gbuffer_, compute_light_, light_stencil_, light_volume_, light_fullscreen_,
-      masked_light_;
+      masked_light_, gbuffer_indirect_, inputs_;
+  gpu::GraphicsPipelineDesc gbuffer_desc_;
+  CountingPipelines gbuffer_indirect_count_;
   gpu::Buffer sphere_vertices_, sphere_indices_;
   CountingPipelines gbuffer_count_;
   uint32_t sphere_index_count_ = 0;

@@ -93,6 +93,9 @@ class ShadowMaps final : public ShadowMethod {
     const size_t views = 6 * cube_lights_.size() + spot_lights_.size() + kCascades;
     views_ = gpu::Buffer(ctx.gpu, views * sizeof(glm::mat4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                          gpu::MemoryUsage::kUpload);
+    // The maps are drawn from the camera block (shadow_cube.vert reads views[push.view]); set 3
+    // keeps the lookups' copy of each view × projection.
+    block_views_ = ctx.globals.add_views(static_cast<uint32_t>(views));
     shadow_lights_ =
         gpu::Buffer(ctx.gpu, std::max<size_t>(1, lights.size()) * sizeof(GpuShadowLight),
                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, gpu::MemoryUsage::kUpload);
@@ -222,6 +225,7 @@ class ShadowMaps final : public ShadowMethod {
       sl[i].params = vec4(shadow_far(lights[i]), 0.0f, 0.0f, 0.0f);
     }
     std::vector<glm::mat4> views;
+    std::vector<FrameView> cameras;  // the same views for the camera block
     for (size_t s = 0; s < cube_lights_.size(); ++s) {
       const Light& l = lights[static_cast<size_t>(cube_lights_[s])];
       GpuShadowLight& g = sl[static_cast<size_t>(cube_lights_[s])];
@@ -232,8 +236,11 @@ class ShadowMaps final : public ShadowMethod {
       const mat4 proj = glm::perspectiveRH_ZO(radians(90.0f), 1.0f, far_plane * 1e-4f, far_plane);
       const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
       const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-      for (int f = 0; f < 6; ++f)
-        views.push_back(proj * glm::lookAtRH(l.position, l.position + axes[f], ups[f]));
+      for (int f = 0; f < 6; ++f) {
+        cameras.push_back(shadow_camera(glm::lookAtRH(l.position, l.position + axes[f], ups[f]),
+                                        proj, l.position, far_plane * 1e-4f, far_plane));
+        views.push_back(cameras.back().view_proj);
+      }
     }
     for (size_t s = 0; s < spot_lights_.size(); ++s) {
       const Light& l = lights[static_cast<size_t>(spot_lights_[s])];
@@ -246,7 +253,9 @@ class ShadowMaps final : public ShadowMethod {
       const vec3 dir = glm::normalize(l.direction);
       const vec3 up = std::abs(dir.y) > 0.99f ? vec3(1, 0, 0) : vec3(0, 1, 0);
       const mat4 proj = glm::perspectiveRH_ZO(2.0f * half_fov, 1.0f, far_plane * 1e-4f, far_plane);
-      views.push_back(proj * glm::lookAtRH(l.position, l.position + dir, up));
+      cameras.push_back(shadow_camera(glm::lookAtRH(l.position, l.position + dir, up), proj,
+                                      l.position, far_plane * 1e-4f, far_plane));
+      views.push_back(cameras.back().view_proj);
     }
     ShadowUniforms u{};
     // PCF reads taps, bias and radius; VSM τ and the minimum variance.
@@ -258,10 +267,13 @@ class ShadowMaps final : public ShadowMethod {
       GpuShadowLight& g = sl[static_cast<size_t>(cascade_light_)];
       glm::vec4 half_widths(0.0f);
       cascade_receivers_.clear();
-      u.cascade_splits = update_cascades(&views, &half_widths, &cascade_receivers_);
+      u.cascade_splits = update_cascades(&views, &cameras, &half_widths, &cascade_receivers_);
       g.slot = glm::ivec4(-1, static_cast<int>(views.size()) - kCascades, kCascades, 0);
       g.params = half_widths;
     }
+    for (size_t k = 0; k < cameras.size(); ++k)
+      ctx_.globals.set_view(block_views_[static_cast<uint32_t>(k)], cameras[k],
+                            {resolution_, resolution_});
     if (views.empty()) views.emplace_back(1.0f);
     views_.write(views.data(), views.size() * sizeof(glm::mat4));
     view_matrices_ = std::move(views);
@@ -277,6 +289,19 @@ class ShadowMaps final : public ShadowMethod {
   VkFormat cascade_format() const { return vsm_ ? kVsmFormat : cascade_depth_format_; }
   int cascade_view_offset() const {
     return static_cast<int>(6 * cube_lights_.size() + spot_lights_.size());
+  }
+  // A shadow view as the camera block holds it (view_proj: proj × view, the map's transform).
+  static FrameView shadow_camera(const mat4& view, const mat4& proj, const vec3& eye,
+                                 float near_plane, float far_plane) {
+    FrameView v;
+    v.camera.position = eye;
+    v.view = view;
+    v.proj = proj;
+    v.view_proj = proj * view;
+    v.inv_view_proj = glm::inverse(v.view_proj);
+    v.near_plane = near_plane;
+    v.far_plane = far_plane;
+    return v;
   }
   float shadow_far(const Light& l) const {
     if (l.range > 0.0f) return l.range;
@@ -306,7 +331,7 @@ class ShadowMaps final : public ShadowMethod {
     pass.use(t.depth_resource, kDepthAttachment);
     t.extent = {resolution_, resolution_};
     SceneView v;
-    v.view_index = view;
+    v.view = static_cast<int>(block_views_[static_cast<uint32_t>(view)]);
     v.light_index = light;
     v.per_draw = false;
     v.cull = view_matrices_.at(static_cast<size_t>(view));
@@ -324,7 +349,7 @@ class ShadowMaps final : public ShadowMethod {
     const VkFormat depth = ctx_.resources.image(t.depth_resource).desc().format;
     ctx_.drawer.render_counted(
         pass, t, pipeline, counter, ctx_.globals.default_layout(),
-        {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kBakedSet)}, v,
+        {ctx_.globals.neutral_set(kPipelineSet), set_, ctx_.globals.neutral_set(kInputsSet)}, v,
         {resolution_, resolution_, colors, depth, D::kWrite},
         {resolution_, resolution_, colors, depth, D::kReject});
   }
@@ -370,8 +395,8 @@ class ShadowMaps final : public ShadowMethod {
   // snapped to whole texels so the maps do not shimmer as the camera moves. Appends the
   // cascades' matrices to `views` and the regions their lookups read to `receivers`; returns
   // the splits.
-  glm::vec4 update_cascades(std::vector<glm::mat4>* views, glm::vec4* half_widths,
-                            std::vector<glm::mat4>* receivers) const {
+  glm::vec4 update_cascades(std::vector<glm::mat4>* views, std::vector<FrameView>* cameras,
+                            glm::vec4* half_widths, std::vector<glm::mat4>* receivers) const {
     const FrameView& fv = ctx_.view();
     const Camera& camera = fv.camera;
     const float near_plane = fv.near_plane, aspect = fv.aspect;
@@ -424,7 +449,10 @@ class ShadowMaps final : public ShadowMethod {
       view = glm::translate(mat4(1.0f), vec3(snapped - vec2(origin), 0.0f)) * view;
       const mat4 proj =
           glm::orthoRH_ZO(-radius, radius, -radius, radius, 0.0f, scene_extent + radius);
-      views->push_back(proj * view);
+      // The eye of an orthographic view: where its view matrix puts the origin.
+      cameras->push_back(
+          shadow_camera(view, proj, vec3(glm::inverse(view)[3]), 0.0f, scene_extent + radius));
+      views->push_back(cameras->back().view_proj);
       (*half_widths)[k] = radius;
       receivers->push_back(receiver_region(proj * view, corners, texel, radius, scene_extent));
       prev = split;
@@ -444,6 +472,7 @@ class ShadowMaps final : public ShadowMethod {
   CountingPipelines radial_count_, ortho_count_;
   gpu::Buffer views_, shadow_lights_, uniforms_;
   std::vector<glm::mat4> view_matrices_;      // views_'s contents, for culling on the CPU
+  ViewSlots block_views_;                     // the same views in the camera block
   std::vector<glm::mat4> cascade_receivers_;  // receiver_region of each cascade
   gpu::DescriptorAllocator descriptors_;
   VkDescriptorSet set_ = VK_NULL_HANDLE;

@@ -205,7 +205,7 @@ class Visibility final : public FramePipeline {
     t.extent = {ctx_.width(), ctx_.height()};
     SceneView view =
         SceneView::camera(ctx_.view().view_proj, true, SceneView::Occlusion::kTwoPhase);
-    view.mode = packing_.triangle_bits;  // push.pad, read by visibility.frag
+    view.mode = packing_.triangle_bits;  // push.mode, read by visibility.frag
     using D = gpu::RasterFill::Depth;
     const uint32_t w = t.extent.width, h = t.extent.height;
     ctx_.drawer.render_counted(pass, t, raster_, raster_count_, ctx_.globals.default_layout(),
@@ -227,7 +227,7 @@ class Visibility final : public FramePipeline {
                       ctx_.shading_sets(set_));
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, classify_.handle());
     PushConstants push{};
-    push.pad = packing_.triangle_bits;
+    push.mode = packing_.triangle_bits;
     vkCmdPushConstants(c, layout, VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
     vkCmdDispatch(c, (ctx_.width() + 7) / 8, (ctx_.height() + 7) / 8, 1);
   }
@@ -242,7 +242,7 @@ class Visibility final : public FramePipeline {
                       ctx_.shading_sets(set_));
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
     PushConstants push{};
-    push.pad = packing_.triangle_bits;
+    push.mode = packing_.triangle_bits;
     const VkBuffer args = ctx_.resources.buffer(kTileArgs).handle();
     for (size_t slot = 0; slot < materials_.size(); ++slot) {
       const int m = materials_[slot];
