@@ -15,10 +15,16 @@
 // step's camera ray: planar occluders are compared at sub-pixel precision, and the hit is
 // where the ray crosses that plane (exact for planes; bisection where the crossing lies
 // outside the last step, at edges). Steps are projected incrementally: clip(p + tω) =
-// clip(p) + t·clip(ω).
+// clip(p) + t·clip(ω), and a direction's texels are all fetched before its march, so the
+// fetches overlap rather than each waiting for the previous step's answer.
+#extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "ssao_set.glsl"
 layout(set = 2, binding = 4, r32f) uniform writeonly image2D ao_out;
+
+// Steps along each direction (ssao.cpp's kMarchSteps): a compile-time count, so the fetches
+// unroll.
+const int kSteps = 8;
 
 // Taps nearer than 2^kDenseLog2 level-0 texels read level 0; each doubling of the distance one
 // level coarser (SAO's rule).
@@ -34,20 +40,25 @@ float random(inout uint state) {
   return float(state >> 8) * (1.0 / 16777216.0);
 }
 
-// 1: the point q (clip: its clip-space position, qo = q − camera) lies behind the visible
-// surface within the thickness R; 0: in front of it or the pixel shows the sky; −1: q is off
-// screen or behind the camera (screen space knows nothing there: the march ends unoccluded).
-// n, plane_d: the plane it was compared with (dot(x − o, n) = plane_d).
-int behind(vec4 clip, vec3 qo, float radius, vec2 origin, out vec3 n, out float plane_d) {
-  n = vec3(0.0);
-  plane_d = 0.0;
-  if (clip.w <= 0.0) return -1;
+// The pyramid texel and level under the point with clip-space position `clip`; level −1:
+// off screen or behind the camera (screen space knows nothing there: the march ends
+// unoccluded).
+ivec3 locate(vec4 clip, vec2 origin) {
+  if (clip.w <= 0.0) return ivec3(0, 0, -1);
   vec2 ndc = clip.xy / clip.w;
-  if (any(greaterThan(abs(ndc), vec2(1.0)))) return -1;
+  if (any(greaterThan(abs(ndc), vec2(1.0)))) return ivec3(0, 0, -1);
   vec2 px = (ndc * 0.5 + 0.5) * frame.extent.xy / float(ssao.grid.x);  // level-0 texels
   int level = clamp(int(log2(max(length(px - origin), 1.0))) - kDenseLog2, 0, ssao.grid.y - 1);
   ivec2 size = max(ssao.grid.zw >> level, ivec2(1));
-  uvec4 v = texelFetch(ssao_planes, min(ivec2(px) >> level, size - 1), level);
+  return ivec3(min(ivec2(px) >> level, size - 1), level);
+}
+
+// 1: the point q (qo = q − camera) lies behind the visible surface of texel v (of `level`)
+// within the thickness R; 0: in front of it or the texel shows the sky. n, plane_d: the
+// texel's plane (dot(x − o, n) = plane_d).
+int compare(uvec4 v, int level, vec3 qo, float radius, out vec3 n, out float plane_d) {
+  n = vec3(0.0);
+  plane_d = 0.0;
   float dist_s = uintBitsToFloat(v.x);
   if (dist_s < 0.0) return 0;
   n = ssao_unpack_normal(v.z);
@@ -64,6 +75,15 @@ int behind(vec4 clip, vec3 qo, float radius, vec2 origin, out vec3 n, out float 
   along = clamp(along, dist_s - footprint, dist_s + footprint);
   float eps = 1e-4 * dist_q;
   return along < dist_q - eps && dist_q - along < radius ? 1 : 0;
+}
+
+// compare() at any point of the ray, −1 off screen.
+int behind(vec4 clip, vec3 qo, float radius, vec2 origin, out vec3 n, out float plane_d) {
+  ivec3 cell = locate(clip, origin);
+  n = vec3(0.0);
+  plane_d = 0.0;
+  if (cell.z < 0) return -1;
+  return compare(texelFetch(ssao_planes, cell.xy, cell.z), cell.z, qo, radius, n, plane_d);
 }
 
 // Ranks of the 4×4 Bayer matrix: neighbouring pixels' rotations differ most.
@@ -83,7 +103,7 @@ void main() {
   vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
   vec3 b = cross(n, t);
   float radius = ssao.shape.x, bias = ssao.shape.y, falloff = ssao.shape.w;
-  int directions = ssao.info.x, steps = ssao.info.z;
+  int directions = ssao.info.x;
   uint state = hash(uint(pixel.x) * 1973u + hash(uint(pixel.y) * 9277u));
   // Each azimuth stays uniform (the rotation is uniform over the circle: a Bayer rank jittered
   // within its sixteenth), and a pixel's azimuths are spread by the golden angle.
@@ -101,13 +121,21 @@ void main() {
     float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     vec3 w = (t * cos(phi) + b * sin(phi)) * sin_theta + n * cos_theta;
     vec4 clip_w = frame.view_proj * vec4(w, 0.0);
+    int levels[kSteps + 1];
+    uvec4 texels[kSteps + 1];
+    [[unroll]] for (int j = 0; j <= kSteps; ++j) {
+      float step_t = radius * min((float(j) + jitter) / float(kSteps), 1.0);
+      ivec3 cell = locate(clip_p + step_t * clip_w, origin);
+      levels[j] = cell.z;
+      texels[j] = texelFetch(ssao_planes, cell.xy, max(cell.z, 0));
+    }
     float free_t = 0.0;
-    for (int j = 0; j <= steps; ++j) {
-      float step_t = radius * min((float(j) + jitter) / float(steps), 1.0);
+    [[unroll]] for (int j = 0; j <= kSteps; ++j) {
+      float step_t = radius * min((float(j) + jitter) / float(kSteps), 1.0);
+      if (levels[j] < 0) break;
       vec3 hn;
       float hd;
-      int r = behind(clip_p + step_t * clip_w, po + w * step_t, radius, origin, hn, hd);
-      if (r < 0) break;
+      int r = compare(texels[j], levels[j], po + w * step_t, radius, hn, hd);
       if (r == 0) {
         free_t = step_t;
         continue;
