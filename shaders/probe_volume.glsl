@@ -7,9 +7,10 @@
 // stored irradiance coefficients, Ramamoorthi–Hanrahan's Λ_l applied). Leak guard: DDGI's
 // smooth back-face weight ((1 + cos θ)/2)² + 0.2, θ between the geometric normal and the
 // direction to the probe (docs/probes.md says why).
+// The volume's bindings are the `probes` lighting input's (inputs/probes.glsl includes this
+// file after them).
 #ifndef ILLUM_PROBE_VOLUME_GLSL
 #define ILLUM_PROBE_VOLUME_GLSL
-#include "baked.glsl"
 #include "sh.glsl"
 
 const int kProbeFloats = 28;               // realtime/probe_volume.h
@@ -18,8 +19,8 @@ const float kProbeLeakGuardFloor = 0.2;
 // E(n) in W/m² at p (unit n: shading normal, ng: geometric normal); black when no probe of
 // the cell is usable. Not clamped: SH-L2 can ring below 0, the caller clamps.
 vec3 probe_volume_irradiance(vec3 p, vec3 n, vec3 ng) {
-  ivec3 size = baked.probe_size.xyz;
-  vec3 origin = baked.probe_origin.xyz, spacing = baked.probe_spacing.xyz;
+  ivec3 size = probes_input.size.xyz;
+  vec3 origin = probes_input.origin.xyz, spacing = probes_input.spacing.xyz;
   vec3 g = clamp((p - origin) / spacing, vec3(0.0), vec3(size - 1));
   ivec3 i0 = min(ivec3(floor(g)), size - 1);
   ivec3 i1 = min(i0 + 1, size - 1);

@@ -56,14 +56,19 @@ class TechniqueContext {
   FramePipeline& pipeline() const { return *pipeline_(); }
   ShadowMethod& shadow_method() const { return *shadow_method_(); }
   // The sets bound at slots 2, 3, 4 of the shading layout: `pipeline_set` (or the empty
-  // neutral set), then the active shadow method's and baked add-on's sets (or neutral ones).
+  // neutral set), the active shadow method's set (or the neutral one), the lighting inputs.
   std::array<VkDescriptorSet, 3> shading_sets(VkDescriptorSet pipeline_set = VK_NULL_HANDLE) const {
     return shading_sets_(pipeline_set);
   }
-  // The resources the shading passes sample through those sets, as accesses by `shaders`.
-  std::vector<Access> shading_reads(VkPipelineStageFlags2 shaders) const {
-    return shading_reads_(shaders);
+  // The resources the shading passes sample through those sets, as accesses by `shaders`
+  // (`inputs`: which lighting inputs' resources; the deferred G-buffer pass, before the
+  // screen-space phase, reads the surface inputs only).
+  std::vector<Access> shading_reads(VkPipelineStageFlags2 shaders,
+                                    InputReads inputs = InputReads::kAll) const {
+    return shading_reads_(shaders, inputs);
   }
+  // The lighting-inputs set (which inputs are active), from declare() on.
+  const LightingInputs& lighting_inputs() const { return *lighting_inputs_; }
   // The assembled frame graph, from bind() on (which optional reads stand: FrameGraph::reads).
   const FrameGraph& graph() const { return *graph_(); }
   // Changes raised while building, updating or recording: the renderer notifies the graph
@@ -81,7 +86,8 @@ class TechniqueContext {
   std::function<FramePipeline*()> pipeline_;
   std::function<ShadowMethod*()> shadow_method_;
   std::function<std::array<VkDescriptorSet, 3>(VkDescriptorSet)> shading_sets_;
-  std::function<std::vector<Access>(VkPipelineStageFlags2)> shading_reads_;
+  std::function<std::vector<Access>(VkPipelineStageFlags2, InputReads)> shading_reads_;
+  const LightingInputs* lighting_inputs_ = nullptr;
   std::function<const FrameGraph*()> graph_;
   std::vector<std::pair<Changes, std::string>> raised_;
 };

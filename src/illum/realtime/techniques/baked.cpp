@@ -1,9 +1,10 @@
-// Baked lighting in the ambient term (shaders/baked.glsl, slot 4): light-maps (plain, RNM,
-// SH-L1) at uv1, the probes' irradiance volume on dynamic instances (per pixel,
-// shaders/probe_volume.glsl, or one ambient cube per instance), and PRT transfer (per vertex, per
-// texel or VQ-compressed, 1..8 bands) relit each frame by a sun projected to SH on the CPU
-// (shaders/prt.glsl). The data stays with the renderer (Renderer::set_lightmap, ...);
-// switching the add-on on uploads it into this technique's own set.
+// Baked lighting in the ambient term, as three lighting inputs (lighting_inputs.h): `lightmap`
+// (plain, RNM, SH-L1, dominant at uv1; shaders/inputs/lightmap.glsl), `probes` (the probes'
+// irradiance volume on dynamic instances, per pixel, shaders/probe_volume.glsl, or one
+// ambient cube per instance; inputs/probes.glsl) and `prt` (transfer per vertex, per texel or
+// VQ-compressed, 1..8 bands, relit each frame by a sun projected to SH on the CPU;
+// shaders/prt.glsl). The data stays with the renderer (Renderer::set_lightmap, ...);
+// switching the add-on on uploads it and contributes the inputs the data holds.
 #include <glm/gtc/packing.hpp>
 
 #include "illum/core/sh.h"
@@ -59,8 +60,7 @@ vec3 sun_towards(float azimuth_deg, float elevation_deg) {
 
 class Baked final : public Technique {
  public:
-  Baked(TechniqueContext& ctx, const TechniqueDecl& decl)
-      : Technique(ctx, decl), descriptors_(ctx.gpu) {
+  Baked(TechniqueContext& ctx, const TechniqueDecl& decl) : Technique(ctx, decl) {
     const BakedData& data = ctx.baked();
     const FrameGlobals& g = ctx.globals;
     const Lightmap& lm = data.lightmap;
@@ -109,60 +109,89 @@ class Baked final : public Technique {
     // probe, read with 8 fetches per pixel whose weights include each probe's validity.
     const VkBuffer probes =
         storage(data.probes.probes.data(), data.probes.probes.size() * sizeof(float), &probes_);
-    uniforms_ = gpu::Buffer(ctx.gpu, sizeof(BakedUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
-                            gpu::MemoryUsage::kUpload);
-    set_ = descriptors_.allocate(g.layout(kBakedSet));
+    auto ubo = [&](size_t size) {
+      return gpu::Buffer(ctx.gpu, size, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                         gpu::MemoryUsage::kUpload);
+    };
+    lightmap_ubo_ = ubo(sizeof(LightmapInputUniforms));
+    prt_ubo_ = ubo(sizeof(PrtInputUniforms));
+    probes_ubo_ = ubo(sizeof(ProbesInputUniforms));
+    const VkSampler sampler = g.clamp_linear().handle();
     const auto ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    gpu::DescriptorWriter()
-        .buffer(set_, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
-        .image(set_, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, lightmap,
-               g.clamp_linear().handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL)
-        .buffer(set_, 2, ssbo, cubes)
-        .buffer(set_, 3, ssbo, prt)
-        .buffer(set_, 4, ssbo, draw_cube)
-        .buffer(set_, 5, ssbo, vq)
-        .buffer(set_, 6, ssbo, probes)
-        .commit(ctx.gpu.device());
+    const auto uniform = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    // Only the inputs the data holds: the others stay neutral (flag 0).
+    if (lm.kind != LightmapKind::kNone)
+      contributions_.push_back({"lightmap",
+                                [this, lightmap, sampler, uniform](
+                                    gpu::DescriptorWriter& w, VkDescriptorSet set, uint32_t base) {
+                                  w.buffer(set, base, uniform, lightmap_ubo_.handle())
+                                      .image(set, base + 1,
+                                             VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, lightmap,
+                                             sampler, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+                                },
+                                {}});
+    if (lookup_ != PrtLookup::kNone)
+      contributions_.push_back({"prt",
+                                [this, prt, vq, ssbo, uniform](gpu::DescriptorWriter& w,
+                                                               VkDescriptorSet set, uint32_t base) {
+                                  w.buffer(set, base, uniform, prt_ubo_.handle())
+                                      .buffer(set, base + 1, ssbo, prt)
+                                      .buffer(set, base + 2, ssbo, vq);
+                                },
+                                {}});
+    if (!data.draw_cube.empty())
+      contributions_.push_back({"probes",
+                                [this, cubes, draw_cube, probes, ssbo, uniform](
+                                    gpu::DescriptorWriter& w, VkDescriptorSet set, uint32_t base) {
+                                  w.buffer(set, base, uniform, probes_ubo_.handle())
+                                      .buffer(set, base + 1, ssbo, cubes)
+                                      .buffer(set, base + 2, ssbo, draw_cube)
+                                      .buffer(set, base + 3, ssbo, probes);
+                                },
+                                {}});
   }
 
-  int shading_slot() const override { return kBakedSet; }
-  VkDescriptorSet shading_set() const override { return set_; }
-  void declare(FrameGraph&) override {}  // no passes: the pipelines' shading reads the set
+  std::vector<LightingContribution> lighting_inputs() const override { return contributions_; }
+  void declare(FrameGraph&) override {}  // no passes: the pipelines' shading reads the inputs
 
   void update() override {
     const BakedData& data = ctx_.baked();
-    BakedUniforms u{};
-    u.info = glm::ivec4(static_cast<int>(data.lightmap.kind), static_cast<int>(lookup_),
-                        static_cast<int>(data.draw_cube.size()), 0);
-    u.intensity = vec4(param<float>("intensity"), 0.0f, 0.0f, 0.0f);
+    LightmapInputUniforms lm{};
+    lm.info = glm::ivec4(static_cast<int>(data.lightmap.kind), 0, 0, 0);
+    lm.intensity = vec4(param<float>("intensity"), 0.0f, 0.0f, 0.0f);
+    lightmap_ubo_.write(&lm, sizeof(lm));
+    ProbesInputUniforms pr{};
+    pr.info = glm::ivec4(static_cast<int>(data.draw_cube.size()), 0, 0, 0);
     if (!data.probes.empty()) {
       const bool per_pixel = param<std::string>("probe_lookup") == "pixel";
-      u.probe_size = glm::ivec4(data.probes.size, per_pixel ? kProbeLookupPixel : 0);
-      u.probe_origin = vec4(data.probes.origin, 0.0f);
-      u.probe_spacing = vec4(data.probes.spacing, 0.0f);
+      pr.size = glm::ivec4(data.probes.size, per_pixel ? kProbeLookupPixel : 0);
+      pr.origin = vec4(data.probes.origin, 0.0f);
+      pr.spacing = vec4(data.probes.spacing, 0.0f);
     }
+    probes_ubo_.write(&pr, sizeof(pr));
+    PrtInputUniforms u{};
+    u.info = glm::ivec4(static_cast<int>(lookup_), 0, 0, 0);
     if (lookup_ != PrtLookup::kNone) {
       // The sun as illum relight projects it: L_i = E·Y_i(s), s towards the sun, world frame.
       const int bands = data.prt.bands;
       const int n = sh::coefficient_count(bands);
-      u.info.w = n;
-      u.prt_size = glm::ivec4(data.prt.width, data.prt.height,
-                              data.prt.channels() + (data.prt.channels() & 1), 0);
+      u.info.y = n;
+      u.size = glm::ivec4(data.prt.width, data.prt.height,
+                          data.prt.channels() + (data.prt.channels() & 1), 0);
       std::vector<float> y(static_cast<size_t>(n));
       sh::evaluate<float>(
           bands, sun_towards(param<float>("sun_azimuth"), param<float>("sun_elevation")), y);
       const float e = param<float>("sun_irradiance");
-      for (int i = 0; i < n; ++i) u.prt_light[i] = vec4(vec3(e * y[static_cast<size_t>(i)]), 0.0f);
+      for (int i = 0; i < n; ++i) u.light[i] = vec4(vec3(e * y[static_cast<size_t>(i)]), 0.0f);
     }
-    uniforms_.write(&u, sizeof(u));
+    prt_ubo_.write(&u, sizeof(u));
   }
 
  private:
-  gpu::DescriptorAllocator descriptors_;
   gpu::GpuImage lightmap_;
-  gpu::Buffer cubes_, prt_, draw_cube_, vq_, probes_, uniforms_;
+  gpu::Buffer cubes_, prt_, draw_cube_, vq_, probes_, lightmap_ubo_, prt_ubo_, probes_ubo_;
   PrtLookup lookup_ = PrtLookup::kNone;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  std::vector<LightingContribution> contributions_;
 };
 
 }  // namespace

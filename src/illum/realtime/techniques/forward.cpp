@@ -1,7 +1,8 @@
 // The forward pipeline: a depth pre-pass (same vertex shader, no fragment shader; a pass and
 // timer scope of its own), then forward.frag with depth EQUAL over all lights, so each pixel shades
-// once however deep the overdraw. With stencil shadow volumes the main pass writes emission +
-// ambient only and each light is added by record_masked_light().
+// once however deep the overdraw (in the lighting phase, after the screen-space passes). With
+// stencil shadow volumes the main pass writes emission + ambient only and each light is added by
+// record_masked_light().
 #include "illum/realtime/frame_globals.h"
 #include "illum/realtime/frame_resources.h"
 #include "illum/realtime/measure/shading_bound.h"
@@ -62,7 +63,9 @@ class Forward final : public FramePipeline {
     PassDesc p;
     p.name = "forward";
     p.technique = name();
-    p.phase = Phase::kGeometry;
+    // After the screen-space phase, whose images (SSAO) the shading reads as lighting inputs;
+    // the depth pre-pass stays in the geometry phase.
+    p.phase = Phase::kLighting;
     p.accesses = ctx_.shading_reads(kFragmentShader);
     p.accesses.push_back({"hdr", kColorAttachment});
     p.accesses.push_back({"depth", kDepthAttachment});

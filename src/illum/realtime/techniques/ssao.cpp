@@ -1,7 +1,7 @@
 // SSAO (S001 §4.3 with Méndez's term; docs/realtime.md "SSAO"): occlusion of the indirect
 // terms from the depth buffer and the normals, blurred depth-aware, then applied to the
 // ambient, light-map and ambient-cube terms only — not to PRT, whose transfer already holds
-// the visibility (lighting.glsl, ambient_term_includes_visibility).
+// the visibility (shaders/lighting_inputs.glsl, indirect_occlusion).
 //
 // Passes (each its own timer scope): "ssao.prepare" (the plane pyramid "ssao.planes" at the
 // estimator's resolution — half (default) or full with -p ssao.resolution=full: per texel one

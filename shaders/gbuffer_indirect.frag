@@ -1,0 +1,3 @@
+#version 450
+#define GBUFFER_INDIRECT
+#include "gbuffer_pass.glsl"
