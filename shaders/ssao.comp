@@ -1,7 +1,6 @@
 #version 450
 // Screen-space ambient occlusion with Méndez's term (S001 §4.3, ALGORITHMS.md item 26), one
-// estimate per texel of the plane pyramid's level 0 (every pixel, or at half resolution one
-// representative pixel of each 2×2): N directions ω uniform over the hemisphere around the
+// estimate per pixel, or at half resolution at one pixel of each 2×2: N directions ω uniform over the hemisphere around the
 // normal (stratified in cos θ; azimuths on a golden-angle sequence turned per pixel by a 4×4
 // interleaved rotation), each marched from the surface point p to the radius R in `steps`
 // jittered steps; the first step that falls behind the visible surface (within the
@@ -26,7 +25,7 @@ layout(set = 2, binding = 4, r32f) uniform writeonly image2D ao_out;
 // unroll.
 const int kSteps = 8;
 
-// Taps nearer than 2^kDenseLog2 level-0 texels read level 0; each doubling of the distance one
+// Taps nearer than 2^kDenseLog2 pixels read level 0 (exact per pixel); each doubling of the distance one
 // level coarser (SAO's rule).
 const int kDenseLog2 = 3;
 
@@ -47,9 +46,9 @@ ivec3 locate(vec4 clip, vec2 origin) {
   if (clip.w <= 0.0) return ivec3(0, 0, -1);
   vec2 ndc = clip.xy / clip.w;
   if (any(greaterThan(abs(ndc), vec2(1.0)))) return ivec3(0, 0, -1);
-  vec2 px = (ndc * 0.5 + 0.5) * frame.extent.xy / float(ssao.grid.x);  // level-0 texels
+  vec2 px = (ndc * 0.5 + 0.5) * frame.extent.xy;
   int level = clamp(int(log2(max(length(px - origin), 1.0))) - kDenseLog2, 0, ssao.grid.y - 1);
-  ivec2 size = max(ssao.grid.zw >> level, ivec2(1));
+  ivec2 size = max(ivec2(frame.extent.xy) >> level, ivec2(1));
   return ivec3(min(ivec2(px) >> level, size - 1), level);
 }
 
@@ -67,12 +66,14 @@ int compare(uvec4 v, int level, vec3 qo, float radius, out vec3 n, out float pla
   float cos_ray = dot(qo, n) / dist_q;
   // Along q's camera ray to the plane (grazing planes: the texel's own distance).
   float along = abs(cos_ray) > 0.05 ? plane_d / cos_ray : dist_s;
-  // No farther from the texel's point than four of its footprints (one pixel's is
-  // 2d/(H·|P11|)): a plane seen edge-on or another surface's texel would otherwise move it
-  // arbitrarily.
-  float footprint = 8.0 * dist_s * frame.extent.w / max(abs(frame.proj[1][1]), 1e-6) *
-                    float(ssao.grid.x << level);
-  along = clamp(along, dist_s - footprint, dist_s + footprint);
+  // No farther from the texel's point than four pixel footprints (one is 2d/(H·|P11|)) plus
+  // the depth its plane gains across the texel's span of pixels (the point's pixel may lie
+  // that far from q's; 1/|cos| per footprint on a slanted plane): a plane seen edge-on or
+  // another surface's texel would otherwise move it arbitrarily.
+  float pixel = 2.0 * dist_s * frame.extent.w / max(abs(frame.proj[1][1]), 1e-6);
+  float span = float((1 << level) - 1);
+  float reach = pixel * (4.0 + span / max(abs(cos_ray), 0.05));
+  along = clamp(along, dist_s - reach, dist_s + reach);
   float eps = 1e-4 * dist_q;
   return along < dist_q - eps && dist_q - along < radius ? 1 : 0;
 }
@@ -92,12 +93,12 @@ const uint kBayer[16] = uint[](0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(texel, ssao.grid.zw))) return;
-  uvec4 v = texelFetch(ssao_planes, texel, 0);
+  ivec2 pixel = ssao_representative(texel);
+  uvec4 v = texelFetch(ssao_planes, pixel, 0);
   if (uintBitsToFloat(v.x) < 0.0) {
     imageStore(ao_out, texel, vec4(1.0));
     return;
   }
-  ivec2 pixel = ssao_representative(texel);
   vec3 p = ssao_position(vec2(pixel) + 0.5, texelFetch(ssao_depth, pixel, 0).r);
   vec3 n = ssao_unpack_normal(v.w);  // the shading normal
   vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
@@ -108,7 +109,7 @@ void main() {
   // Each azimuth stays uniform (the rotation is uniform over the circle: a Bayer rank jittered
   // within its sixteenth), and a pixel's azimuths are spread by the golden angle.
   float rotation = (float(kBayer[(texel.y & 3) * 4 + (texel.x & 3)]) + random(state)) / 16.0;
-  vec2 origin = (vec2(pixel) + 0.5) / float(ssao.grid.x);
+  vec2 origin = vec2(pixel) + 0.5;
   vec3 po = p - frame.camera_pos.xyz;
   vec4 clip_p = frame.view_proj * vec4(p, 1.0);
   float sum = 0.0;

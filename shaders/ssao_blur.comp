@@ -1,6 +1,6 @@
 #version 450
-// The raw SSAO (one value per plane-pyramid texel: every pixel, or one of each 2×2 at half
-// resolution) to the full-resolution AO: a depth-aware (bilateral) gather over the texels
+// The raw SSAO (one estimate per pixel, or at half resolution per 2×2 pixels) to the
+// full-resolution AO: a depth-aware (bilateral) gather over the texels
 // around the pixel's own — a neighbour counts with weight exp(−(Δ/σ)²)·max(n·n_i, 0)⁸, Δ the
 // pixel's distance from the texel's plane and σ = R/10 — so occlusion neither bleeds across
 // silhouettes or creases nor is taken from another surface when upsampling.
@@ -19,6 +19,7 @@ void main() {
   ivec2 own = min(pixel / divisor, size - 1);
   int r = ssao.info.y;
   float depth = texelFetch(ssao_depth, pixel, 0).r;
+  uvec4 own_plane = texelFetch(ssao_planes, pixel, 0);
   if (depth >= 1.0) {
     imageStore(ao_out, pixel, vec4(1.0));
     return;
@@ -28,7 +29,7 @@ void main() {
     return;
   }
   vec3 p = ssao_position(vec2(pixel) + 0.5, depth);
-  vec3 n = ssao_geometric_normal(pixel, p, depth);
+  vec3 n = ssao_unpack_normal(own_plane.z);
   vec3 po = p - frame.camera_pos.xyz;
   float inv_sigma = 10.0 / ssao.shape.x;
   int reach = r == 0 ? 1 : (divisor == 1 ? r : (r + 1) / 2);
@@ -37,7 +38,7 @@ void main() {
     for (int x = -reach; x <= reach; ++x) {
       ivec2 q = own + ivec2(x, y);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      uvec4 v = texelFetch(ssao_planes, q, 0);
+      uvec4 v = texelFetch(ssao_planes, ssao_representative(q), 0);
       if (uintBitsToFloat(v.x) < 0.0) continue;
       vec3 nq = ssao_unpack_normal(v.z);
       float delta = (dot(po, nq) - uintBitsToFloat(v.y)) * inv_sigma;

@@ -1,7 +1,7 @@
 #version 450
-// SSAO plane pyramid, level 0 (ssao_set.glsl): per texel the representative full-resolution
-// pixel's surface as a plane — its geometric normal (the G-buffer's, or from the depth buffer
-// in pipelines without one, so no separate normal pass runs) and shading normal.
+// SSAO plane pyramid, level 0 (ssao_set.glsl): per pixel its surface as a plane — its
+// geometric normal (the G-buffer's, or from the depth buffer in pipelines without one, so no
+// separate normal pass runs) and shading normal.
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "ssao_set.glsl"
 layout(set = 2, binding = 4, rgba32ui) uniform writeonly uimage2D planes_out;
@@ -9,7 +9,7 @@ layout(set = 2, binding = 4, rgba32ui) uniform writeonly uimage2D planes_out;
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(texel, imageSize(planes_out)))) return;
-  ivec2 pixel = ssao_representative(texel);
+  ivec2 pixel = texel;
   float depth = texelFetch(ssao_depth, pixel, 0).r;
   if (depth >= 1.0) {
     imageStore(planes_out, texel, uvec4(floatBitsToUint(-1.0), 0u, 0u, 0u));

@@ -5,8 +5,8 @@
 // the apply and show passes) and the plane pyramid. Storage images are declared by the
 // shaders that write them.
 //
-// The plane pyramid ("ssao.planes", RGBA32UI, level 0 at the estimator's resolution): per
-// texel the surface of one representative full-resolution pixel as a plane — x: its distance
+// The plane pyramid ("ssao.planes", RGBA32UI, level 0 at full resolution): per texel the
+// surface of one pixel as a plane — x: its distance
 // from the camera (float bits; < 0: sky), y: dot(s − o, n) (float bits), z: its geometric
 // normal n, w: the shading normal (both octahedral, packSnorm2x16; unsigned, so no packed
 // pair can be a NaN a float path might change) —, each coarser level one texel of every 2×2 of the
@@ -18,7 +18,7 @@
 layout(std140, set = 2, binding = 0) uniform Ssao {
   vec4 shape;  // radius R, bias b, intensity k, falloff s (scene units)
   ivec4 info;  // directions N, blur radius (pixels), march steps, 1: G-buffer normals bound
-  ivec4 grid;  // estimator divisor (1 full, 2 half), pyramid levels, level-0 width, height
+  ivec4 grid;  // estimator divisor (1 full, 2 half), pyramid levels, estimates across, down
 } ssao;
 layout(set = 2, binding = 1) uniform sampler2D ssao_depth;
 layout(set = 2, binding = 2) uniform sampler2D ssao_normals;
@@ -32,15 +32,16 @@ vec3 ssao_position(vec2 frag, float depth) {
   return h.xyz / h.w;
 }
 
-// The full-resolution pixel a texel of a level stands for at `divisor` pixels a texel: one of
-// its 2×2 children on a rotated grid (SAO's choice: each level samples every parity).
+// The texel below that a texel of a coarser level (or a half-resolution estimate) stands for:
+// one of its 2×2 children on a rotated grid (SAO's choice: each level samples every parity).
 ivec2 ssao_child(ivec2 texel, ivec2 below) {
   ivec2 c = 2 * texel + ivec2((texel.y & 1) ^ 1, (texel.x & 1) ^ 1);
   return min(c, below - 1);
 }
-ivec2 ssao_representative(ivec2 texel) {
+// The pixel an estimate is made at.
+ivec2 ssao_representative(ivec2 estimate) {
   ivec2 size = ivec2(frame.extent.xy);
-  return ssao.grid.x == 1 ? min(texel, size - 1) : ssao_child(texel, size);
+  return ssao.grid.x == 1 ? min(estimate, size - 1) : ssao_child(estimate, size);
 }
 
 uint ssao_pack_normal(vec3 n) { return packSnorm2x16(oct_encode(n)); }

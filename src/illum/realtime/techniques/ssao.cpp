@@ -3,12 +3,12 @@
 // ambient, light-map and ambient-cube terms only — not to PRT, whose transfer already holds
 // the visibility (shaders/lighting_inputs.glsl, indirect_occlusion).
 //
-// Passes (each its own timer scope): "ssao.prepare" (the plane pyramid "ssao.planes" at the
-// estimator's resolution — half (default) or full with -p ssao.resolution=full: per texel one
-// pixel's surface plane, normals from the G-buffer or the depth buffer, shaders/ssao_prepare.comp —
-// and its coarser levels, shaders/ssao_downsample.comp), "ssao" (the estimator,
-// shaders/ssao.comp, into "ssao.raw" at the same resolution), "ssao.blur" (the bilateral
-// upsample and blur to the full-resolution "ssao"). "ssao" is the `ssao` lighting input
+// Passes (each its own timer scope): "ssao.prepare" (the plane pyramid "ssao.planes": per
+// pixel its surface plane, normals from the G-buffer or the depth buffer,
+// shaders/ssao_prepare.comp, and coarser levels, shaders/ssao_downsample.comp), "ssao" (the
+// estimator, shaders/ssao.comp, into "ssao.raw": one estimate per 2×2 pixels by default, per
+// pixel with -p ssao.resolution=full), "ssao.blur" (the bilateral upsample and blur to the
+// full-resolution "ssao"). "ssao" is the `ssao` lighting input
 // (lighting_inputs.h, shaders/inputs/ssao.glsl): every pipeline's shading multiplies the
 // indirect term by it (by the minimum with any other occlusion), never the direct light. With
 // -p ssao.output=ao, "ssao.show" writes the AO buffer into the HDR target instead.
@@ -33,7 +33,7 @@ namespace {
 struct SsaoUniforms {
   glm::vec4 shape;  // radius, bias, intensity, falloff
   glm::ivec4 info;  // directions, blur radius, march steps, 1: G-buffer normals bound
-  glm::ivec4 grid;  // estimator divisor, pyramid levels, level-0 width and height
+  glm::ivec4 grid;  // estimator divisor, pyramid levels, estimates across and down
 };
 
 constexpr VkFormat kAoFormat = VK_FORMAT_R32_SFLOAT;
@@ -71,7 +71,7 @@ class Ssao final : public Technique {
     // pipelines: normals from the depth buffer, computed where they are needed.
     divisor_ = param<std::string>("resolution") == "half" ? 2 : 1;
     grid_ = {std::max(ctx_.width() / divisor_, 1u), std::max(ctx_.height() / divisor_, 1u)};
-    levels_ = std::min<uint32_t>(kMaxLevels, std::bit_width(std::max(grid_.x, grid_.y)));
+    levels_ = std::min<uint32_t>(kMaxLevels, std::bit_width(std::max(ctx_.width(), ctx_.height())));
     auto image = [&](const char* name, VkFormat format, uint32_t divisor, uint32_t mips) {
       ResourceDesc r;
       r.name = name;
@@ -80,7 +80,7 @@ class Ssao final : public Technique {
       r.mips = mips;
       graph.add_resource(r);
     };
-    image("ssao.planes", kPlaneFormat, divisor_, levels_);
+    image("ssao.planes", kPlaneFormat, 1, levels_);
     image("ssao.raw", kAoFormat, divisor_, 1);
     image("ssao", kAoFormat, 1, 1);
     const auto cs = kComputeShader;
@@ -97,12 +97,12 @@ class Ssao final : public Technique {
     n.accesses.push_back(planes_read);
     n.record = [this, planes_write, planes_read](PassContext& pass) {
       pass.use(planes_write.mips(0));
-      dispatch(pass, prepare_, sets_[kPrepareSet], grid_);
+      dispatch(pass, prepare_, sets_[kPrepareSet]);
       for (uint32_t m = 1; m < levels_; ++m) {
         pass.use(planes_read.mips(m - 1));
         pass.use(planes_write.mips(m));
         dispatch(pass, downsample_, level_sets_[m - 1],
-                 {std::max(grid_.x >> m, 1u), std::max(grid_.y >> m, 1u)});
+                 {std::max(ctx_.width() >> m, 1u), std::max(ctx_.height() >> m, 1u)});
       }
     };
     graph.add_pass(std::move(n));
@@ -224,7 +224,7 @@ class Ssao final : public Technique {
 
   bool show_ = false, gbuffer_normals_ = false;
   uint32_t divisor_ = 1, levels_ = 1;
-  glm::uvec2 grid_{1, 1};  // the pyramid's level 0
+  glm::uvec2 grid_{1, 1};  // the estimates: the frame's size ÷ divisor_
   gpu::DescriptorAllocator descriptors_;
   gpu::DescriptorSetLayout set_layout_;
   gpu::PipelineLayout layout_;
