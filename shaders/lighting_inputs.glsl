@@ -39,6 +39,7 @@ struct LightingTerms {
 #include "inputs/prt.glsl"
 #include "inputs/lightmap.glsl"
 #include "inputs/ssao.glsl"
+#include "inputs/light_volume.glsl"
 
 LightingTerms gather_lighting_inputs(Surface s, int draw, vec2 frag) {
   LightingTerms t;
@@ -52,6 +53,7 @@ LightingTerms gather_lighting_inputs(Surface s, int draw, vec2 frag) {
   input_probes(s, draw, frag, t);
   input_prt(s, draw, frag, t);
   input_lightmap(s, draw, frag, t);
+  input_light_volume(s, draw, frag, t);
 #endif
 #ifndef LIGHTING_INPUTS_SURFACE_ONLY
   input_ssao(s, draw, frag, t);

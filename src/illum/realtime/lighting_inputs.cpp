@@ -59,6 +59,16 @@ std::vector<LightingInputDecl> make_registry() {
   ssao.screen_space = true;
   ssao.summary = "screen-space occlusion image (R, 1 = open) at the output resolution";
   r.push_back(ssao);
+  LightingInputDecl light_volume;
+  light_volume.name = "light_volume";
+  light_volume.terms = kTermIndirect;
+  light_volume.index = kLightVolumeInput;
+  light_volume.base = kLightVolumeInputBase;
+  light_volume.bindings = {
+      {kUbo}, {kTexture, VK_IMAGE_VIEW_TYPE_3D}, {kTexture, VK_IMAGE_VIEW_TYPE_3D}};
+  light_volume.summary =
+      "linear irradiance volume over the scene (techniques/light_volume.cpp: a teaching example)";
+  r.push_back(light_volume);
   return r;
 }
 

@@ -369,7 +369,7 @@ Image Renderer::hdr() {
 
 Image Renderer::read_resource(const std::string& name, uint32_t layer) {
   Impl& m = *impl_;
-  // A history resource: "NAME" and "NAME.previous" are the copies the graph names so now.
+  // A history resource: "NAME" and "NAME.previous" are the copies the graph gives those names.
   const std::string suffix = ".previous";
   const bool previous = name.size() > suffix.size() && name.ends_with(suffix);
   const std::string base = previous ? name.substr(0, name.size() - suffix.size()) : name;

@@ -54,8 +54,10 @@ class Renderer {
   bool measure_shading(const Camera& camera, int repeats, ShadingTime* out, Image* image = nullptr);
 
   Image hdr();  // linear radiance, RGBA
-  // One layer of a named frame resource as the last frame left it (depth formats as depth in
-  // [0, 1]), for tests and inspection. Throws Error for an unknown name or layer.
+  // One layer (of a 3-D image: depth slice) of a named frame resource as the last frame left
+  // it (depth formats as depth in [0, 1]), for tests and inspection; "NAME" and
+  // "NAME.previous" of a history resource are the copies they name after that frame. Throws
+  // Error for an unknown name or layer.
   Image read_resource(const std::string& name, uint32_t layer = 0);
   // The auto exposure the GPU computed from the last frame's HDR image by core's rule
   // (core/auto_exposure.h: histogram, percentiles, target grey; `counted` left 0); the tone

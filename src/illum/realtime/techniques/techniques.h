@@ -25,6 +25,7 @@ TechniqueDecl luminance_technique();      // luminance.cpp
 TechniqueDecl bloom_technique();          // bloom.cpp
 TechniqueDecl tonemap_technique();        // tonemap.cpp
 TechniqueDecl debug_show_technique();     // debug_show.cpp
+TechniqueDecl light_volume_technique();   // light_volume.cpp (the worked example)
 
 // The visibility buffer's id packing (visibility.cpp): id = draw << triangle_bits | triangle.
 struct VisibilityPacking {
