@@ -36,7 +36,7 @@ TEST_F(CliDebugShow, ListingNamesTheDependencies) {
 TEST_F(CliDebugShow, SwitchingOffWhatIsNeededIsOneLineExitTwo) {
   const Result r = run("frame cornell --width 16 --height 16 --enable debug --disable tonemap -o " +
                        (dir_ / "f.png").string());
-  expect_bad_input(r, "'debug' needs 'tonemap'");
+  expect_bad_input(r, "--disable tonemap: 'debug' needs 'tonemap'");
   EXPECT_FALSE(fs::exists(dir_ / "f.png"));
 }
 
