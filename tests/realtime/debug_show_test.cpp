@@ -10,6 +10,7 @@
 
 #include "illum/core/color.h"
 #include "illum/core/error.h"
+#include "illum/realtime/realtime_lights.h"
 #include "illum/realtime/renderer.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"
@@ -158,6 +159,45 @@ TEST_F(DebugShowTest, ALayerOfTheShadowCubes) {
       differ += std::abs(want - face.pixel(0, 0)[0]) > 0.02f;
     }
   EXPECT_GT(differ, 0);  // the face holds distances, not one value
+}
+
+// A slice of a 3-D image that keeps a history copy (the light_volume example): "NAME" and
+// "NAME.previous" each show the copy the graph gives that name (they differ: a light changed
+// between the two frames).
+TEST_F(DebugShowTest, ASliceOfAVolumeAndItsPreviousCopy) {
+  const Scene scene = test::cornell_point_light();
+  Image shown[2];
+  int k = 0;
+  for (const std::string name : {"light_volume", "light_volume.previous"}) {
+    RenderSettings o = showing(name + ":5");
+    o.enable("light_volume");
+    o.set("light_volume.cells", 8);
+    o.set("light_volume.blend", 0.5f);
+    Renderer r(context(), scene, o);
+    r.render(*scene.camera);
+    // A brighter light: the blend leaves the two copies different.
+    std::vector<Light> lights = realtime_lights(scene);
+    lights[0].intensity = lights[0].intensity * 3.0f;
+    r.update_lights(lights);
+    r.render(*scene.camera);
+    const Image slice = r.read_resource(name, 5);
+    const Image ldr = r.ldr();
+    shown[k++] = ldr;
+    int inside = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const int tx = (2 * x + 1) * slice.width() / (2 * kSize);
+        const int ty = (2 * y + 1) * slice.height() / (2 * kSize);
+        for (int c = 0; c < 3; ++c) {
+          const float want = std::clamp(slice.pixel(tx, ty)[c], 0.0f, 1.0f);
+          ASSERT_NEAR(ldr.pixel(x, y)[c], want, kCode) << name << " " << x << "," << y;
+          inside += want > 0.02f && want < 0.98f;
+        }
+      }
+    EXPECT_GT(inside, 0) << name << ": every texel clamped, the comparison shows nothing";
+  }
+  // The two names show different images.
+  EXPECT_FALSE(test::identical(shown[0], shown[1]));
 }
 
 TEST_F(DebugShowTest, AnUnknownNameListsTheDeclaredOnes) {
