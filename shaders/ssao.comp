@@ -14,7 +14,7 @@
 // step's camera ray: planar occluders are compared at sub-pixel precision, and the hit is
 // where the ray crosses that plane (exact for planes; bisection where the crossing lies
 // outside the last step, at edges). Steps are projected incrementally: clip(p + tω) =
-// clip(p) + t·clip(ω), and a direction's texels are all fetched before its march, so the
+// clip(p) + t·clip(ω) (in homogeneous pixels), and a direction's texels are all fetched before its march, so the
 // fetches overlap rather than each waiting for the previous step's answer.
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -39,15 +39,23 @@ float random(inout uint state) {
   return float(state >> 8) * (1.0 / 16777216.0);
 }
 
-// The pyramid texel and level under the point with clip-space position `clip`; level −1:
+// A point's homogeneous pixel position (x, y, w: pixel = xy/w) from its clip position: linear
+// in the point, so a ray's steps are clip(p) + t·clip(ω) mapped once.
+vec3 to_pixels(vec4 clip) {
+  return vec3((clip.xy + clip.w) * (0.5 * frame.extent.xy), clip.w);
+}
+
+// The pyramid texel and level under the point at homogeneous pixel position h; level −1:
 // off screen or behind the camera (screen space knows nothing there: the march ends
-// unoccluded).
-ivec3 locate(vec4 clip, vec2 origin) {
-  if (clip.w <= 0.0) return ivec3(0, 0, -1);
-  vec2 ndc = clip.xy / clip.w;
-  if (any(greaterThan(abs(ndc), vec2(1.0)))) return ivec3(0, 0, -1);
-  vec2 px = (ndc * 0.5 + 0.5) * frame.extent.xy;
-  int level = clamp(int(log2(max(length(px - origin), 1.0))) - kDenseLog2, 0, ssao.grid.y - 1);
+// unoccluded). Level floor(log2 d) − kDenseLog2 for d pixels from the origin, from d²'s
+// exponent (no root, no logarithm).
+ivec3 locate(vec3 h, vec2 origin) {
+  if (h.z <= 0.0) return ivec3(0, 0, -1);
+  vec2 px = h.xy * (1.0 / h.z);
+  if (any(lessThan(px, vec2(0.0))) || any(greaterThan(px, frame.extent.xy)))
+    return ivec3(0, 0, -1);
+  vec2 d = px - origin;
+  int level = clamp((findMSB(uint(dot(d, d))) >> 1) - kDenseLog2, 0, ssao.grid.y - 1);
   ivec2 size = max(ivec2(frame.extent.xy) >> level, ivec2(1));
   return ivec3(min(ivec2(px) >> level, size - 1), level);
 }
@@ -60,27 +68,29 @@ int compare(uvec4 v, int level, vec3 qo, float radius, out vec3 n, out float pla
   plane_d = 0.0;
   float dist_s = uintBitsToFloat(v.x);
   if (dist_s < 0.0) return 0;
-  n = ssao_unpack_normal(v.z);
+  n = ssao_unpack_plane_normal(v.z);
   plane_d = uintBitsToFloat(v.y);
-  float dist_q = length(qo);
-  float cos_ray = dot(qo, n) / dist_q;
+  float q2 = dot(qo, qo);
+  float dist_q = q2 * inversesqrt(q2);
+  float qn = dot(qo, n);  // cos θ_ray · dist_q
+  float inv_qn = 1.0 / qn;
+  bool slanted = abs(qn) > 0.05 * dist_q;
   // Along q's camera ray to the plane (grazing planes: the texel's own distance).
-  float along = abs(cos_ray) > 0.05 ? plane_d / cos_ray : dist_s;
+  float along = slanted ? plane_d * dist_q * inv_qn : dist_s;
   // No farther from the texel's point than four pixel footprints (one is 2d/(H·|P11|)) plus
   // the depth its plane gains across the texel's span of pixels (the point's pixel may lie
-  // that far from q's; 1/|cos| per footprint on a slanted plane): a plane seen edge-on or
-  // another surface's texel would otherwise move it arbitrarily.
+  // that far from q's; 1/max(|cos|, 0.05) per footprint on a slanted plane): a plane seen
+  // edge-on or another surface's texel would otherwise move it arbitrarily.
+  float inv_cos = slanted ? dist_q * abs(inv_qn) : 20.0;
   float pixel = 2.0 * dist_s * frame.extent.w / max(abs(frame.proj[1][1]), 1e-6);
-  float span = float((1 << level) - 1);
-  float reach = pixel * (4.0 + span / max(abs(cos_ray), 0.05));
+  float reach = pixel * (4.0 + float((1 << level) - 1) * inv_cos);
   along = clamp(along, dist_s - reach, dist_s + reach);
-  float eps = 1e-4 * dist_q;
-  return along < dist_q - eps && dist_q - along < radius ? 1 : 0;
+  return along < dist_q * (1.0 - 1e-4) && dist_q - along < radius ? 1 : 0;
 }
 
 // compare() at any point of the ray, −1 off screen.
-int behind(vec4 clip, vec3 qo, float radius, vec2 origin, out vec3 n, out float plane_d) {
-  ivec3 cell = locate(clip, origin);
+int behind(vec3 h, vec3 qo, float radius, vec2 origin, out vec3 n, out float plane_d) {
+  ivec3 cell = locate(h, origin);
   n = vec3(0.0);
   plane_d = 0.0;
   if (cell.z < 0) return -1;
@@ -111,7 +121,7 @@ void main() {
   float rotation = (float(kBayer[(texel.y & 3) * 4 + (texel.x & 3)]) + random(state)) / 16.0;
   vec2 origin = vec2(pixel) + 0.5;
   vec3 po = p - frame.camera_pos.xyz;
-  vec4 clip_p = frame.view_proj * vec4(p, 1.0);
+  vec3 h_p = to_pixels(frame.view_proj * vec4(p, 1.0));
   float sum = 0.0;
   for (int i = 0; i < directions; ++i) {
     float cos_theta = (float(i) + random(state)) / float(directions);
@@ -121,12 +131,12 @@ void main() {
     if (term <= 0.0) continue;  // adds nothing whatever it hits
     float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     vec3 w = (t * cos(phi) + b * sin(phi)) * sin_theta + n * cos_theta;
-    vec4 clip_w = frame.view_proj * vec4(w, 0.0);
+    vec3 h_w = to_pixels(frame.view_proj * vec4(w, 0.0));
     int levels[kSteps + 1];
     uvec4 texels[kSteps + 1];
     [[unroll]] for (int j = 0; j <= kSteps; ++j) {
       float step_t = radius * min((float(j) + jitter) / float(kSteps), 1.0);
-      ivec3 cell = locate(clip_p + step_t * clip_w, origin);
+      ivec3 cell = locate(h_p + step_t * h_w, origin);
       levels[j] = cell.z;
       texels[j] = texelFetch(ssao_planes, cell.xy, max(cell.z, 0));
     }
@@ -149,7 +159,7 @@ void main() {
       } else {
         for (int k = 0; k < 5; ++k) {
           float mid = 0.5 * (lo + hi);
-          if (behind(clip_p + mid * clip_w, po + w * mid, radius, origin, hn, hd) == 1) hi = mid;
+          if (behind(h_p + mid * h_w, po + w * mid, radius, origin, hn, hd) == 1) hi = mid;
           else lo = mid;
         }
       }

@@ -29,7 +29,7 @@ void main() {
     return;
   }
   vec3 p = ssao_position(vec2(pixel) + 0.5, depth);
-  vec3 n = ssao_unpack_normal(own_plane.z);
+  vec3 n = ssao_unpack_plane_normal(own_plane.z);
   vec3 po = p - frame.camera_pos.xyz;
   float inv_sigma = 10.0 / ssao.shape.x;
   int reach = r == 0 ? 1 : (divisor == 1 ? r : (r + 1) / 2);
@@ -40,7 +40,7 @@ void main() {
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       uvec4 v = texelFetch(ssao_planes, ssao_representative(q), 0);
       if (uintBitsToFloat(v.x) < 0.0) continue;
-      vec3 nq = ssao_unpack_normal(v.z);
+      vec3 nq = ssao_unpack_plane_normal(v.z);
       float delta = (dot(po, nq) - uintBitsToFloat(v.y)) * inv_sigma;
       float w = exp(-delta * delta) * pow(max(dot(n, nq), 0.0), 8.0);
       float a = texelFetch(ssao_source, q, 0).r;

@@ -19,7 +19,9 @@ void main() {
   vec3 n = ssao_geometric_normal(pixel, p, depth);
   vec3 shading = ssao.info.w != 0 ? oct_decode(texelFetch(ssao_normals, pixel, 0).xy) : n;
   vec3 ps = p - frame.camera_pos.xyz;
+  uint packed = ssao_pack_plane_normal(n);
   imageStore(planes_out, texel,
-             uvec4(floatBitsToUint(length(ps)), floatBitsToUint(dot(ps, n)),
-                   ssao_pack_normal(n), ssao_pack_normal(shading)));
+             uvec4(floatBitsToUint(length(ps)),
+                   floatBitsToUint(dot(ps, ssao_unpack_plane_normal(packed))), packed,
+                   ssao_pack_normal(shading)));
 }

@@ -6,11 +6,12 @@
 // shaders that write them.
 //
 // The plane pyramid ("ssao.planes", RGBA32UI, level 0 at full resolution): per texel the
-// surface of one pixel as a plane — x: its distance
-// from the camera (float bits; < 0: sky), y: dot(s − o, n) (float bits), z: its geometric
-// normal n, w: the shading normal (both octahedral, packSnorm2x16; unsigned, so no packed
-// pair can be a NaN a float path might change) —, each coarser level one texel of every 2×2 of the
-// level below (rotated grid, so every level keeps exact surfaces, never averages of them).
+// surface of one pixel as a plane — x: its distance from the camera (float bits; < 0: sky),
+// y: dot(s − o, n) (float bits), z: its geometric normal n (10 bits a component: every step
+// decodes it, and the offset is taken with the decoded n, so the plane stays exact), w: the
+// shading normal (octahedral, packSnorm2x16) — unsigned, so no packed value can be a NaN a
+// float path might change —, each coarser level one texel of every 2×2 of the level below
+// (rotated grid, so every level keeps exact surfaces, never averages of them).
 #ifndef ILLUM_SSAO_SET_GLSL
 #define ILLUM_SSAO_SET_GLSL
 #include "common.glsl"
@@ -46,6 +47,14 @@ ivec2 ssao_representative(ivec2 estimate) {
 
 uint ssao_pack_normal(vec3 n) { return packSnorm2x16(oct_encode(n)); }
 vec3 ssao_unpack_normal(uint packed) { return oct_decode(unpackSnorm2x16(packed)); }
+uint ssao_pack_plane_normal(vec3 n) {
+  uvec3 q = uvec3(round(clamp(n * 0.5 + 0.5, 0.0, 1.0) * 1023.0));
+  return q.x | (q.y << 10) | (q.z << 20);
+}
+// Unit to within 2e-3, not renormalised: every use pairs it with the offset taken with it.
+vec3 ssao_unpack_plane_normal(uint packed) {
+  return vec3(uvec3(packed, packed >> 10, packed >> 20) & 1023u) * (2.0 / 1023.0) - 1.0;
+}
 
 // The geometric normal at a full-resolution pixel: the G-buffer's, or from the depth buffer
 // alone — the cross product of the horizontal and vertical position differences, each taken

@@ -39,8 +39,9 @@ struct SsaoUniforms {
 constexpr VkFormat kAoFormat = VK_FORMAT_R32_SFLOAT;
 // Distances, plane offsets and packed normals as bits (ssao_set.glsl).
 constexpr VkFormat kPlaneFormat = VK_FORMAT_R32G32B32A32_UINT;
-// Level m serves taps 2^(m+3) level-0 texels away: 8 levels reach past a 4K frame's width.
-constexpr uint32_t kMaxLevels = 8;
+// Level m serves taps 2^(m+3) pixels away and more: 6 levels keep 32-pixel texels for the
+// farthest taps (a radius projected past 256 pixels), with few small dispatches.
+constexpr uint32_t kMaxLevels = 6;
 const char* const kGbufferNormals = "gbuffer.normal";
 
 class Ssao final : public Technique {
