@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <set>
 #include <string>
 
 #include "illum/core/color.h"
@@ -198,6 +200,32 @@ TEST_F(DebugShowTest, ASliceOfAVolumeAndItsPreviousCopy) {
   }
   // The two names show different images.
   EXPECT_FALSE(test::identical(shown[0], shown[1]));
+}
+
+// The visibility buffer's ids as hashed colours: each pixel's colour is the documented hash
+// (PCG, shaders/debug_show.glsl) of the id under it.
+TEST_F(DebugShowTest, UnsignedIdsAsHashedColours) {
+  const Scene scene = test::cornell_point_light();
+  RenderSettings o = showing("visibility.ids");
+  o.pipeline = "visibility";
+  Renderer r(context(), scene, o);
+  r.render(*scene.camera);
+  const Image ids = r.read_resource("visibility.ids");
+  const Image ldr = r.ldr();
+  std::set<uint32_t> seen;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      uint32_t id = 0;
+      std::memcpy(&id, ids.pixel(x, y), sizeof(id));  // the texel's bits, as read back
+      seen.insert(id);
+      const uint32_t s = id * 747796405u + 2891336453u;
+      uint32_t w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+      w = (w >> 22u) ^ w;
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(ldr.pixel(x, y)[c], static_cast<float>((w >> (8 * c)) & 255u) / 255.0f, kCode)
+            << x << "," << y << " id " << id;
+    }
+  EXPECT_GT(seen.size(), 10u);  // many triangles, not one colour
 }
 
 TEST_F(DebugShowTest, AnUnknownNameListsTheDeclaredOnes) {

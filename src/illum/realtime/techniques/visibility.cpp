@@ -128,6 +128,7 @@ class Visibility final : public FramePipeline {
     ids.name = kIds;
     ids.frame_divisor = 1;
     ids.format = kIdFormat;
+    ids.extra_usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT;  // Renderer::read_resource (tests)
     graph.add_resource(ids);
     PassDesc p;
     p.name = "visibility";
