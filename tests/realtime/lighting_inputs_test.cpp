@@ -6,6 +6,9 @@
 // * with no contributing technique the ambient term is the neutral default, albedo ·
 //   ambient, in every frame pipeline (and a technique switched on without data leaves the
 //   frame's bytes alone);
+// * a screen-space input (SSAO) switched on and off on a running renderer gives a fresh
+//   renderer's frames in every pipeline (the deferred G-buffer takes up and drops its
+//   indirect target);
 // * two occlusion contributions combine by minimum on the GPU, through the input modules'
 //   own code (shaders/test_inputs_occlusion.comp), and an inactive input leaves the term open.
 #include <gtest/gtest.h>
@@ -158,6 +161,43 @@ TEST_F(LightingInputsTest, WithoutContributionsTheAmbientIsAlbedoTimesTheConstan
       }
     EXPECT_GT(covered, lit.width() * lit.height() / 2) << pipeline;
     EXPECT_GT(white, covered / 3) << pipeline;
+  }
+}
+
+// A screen-space input switched on and off on a running renderer (the viewer's toggle): the
+// pipeline is kept, so the deferred G-buffer pass must take up and drop its indirect target
+// when the frame is re-assembled. Each frame equals a fresh renderer's, and SSAO darkens.
+TEST_F(LightingInputsTest, ScreenSpaceInputSwitchedOnARunningRendererMatchesAFreshOne) {
+  const Scene scene = test::cornell_point_light();
+  for (const std::string pipeline : {"deferred", "forward", "visibility"}) {
+    RenderSettings off;
+    off.width = off.height = 48;
+    off.pipeline = pipeline;
+    off.shadows = "none";
+    off.set("lighting.ambient", Color(0.5f));
+    RenderSettings on = off;
+    on.enable("ssao");
+    on.set("ssao.radius", 0.2f);
+    auto fresh = [&](const RenderSettings& o) {
+      Renderer r(context(), scene, o);
+      r.render(*scene.camera);
+      return r.hdr();
+    };
+    const Image fresh_off = fresh(off), fresh_on = fresh(on);
+    Renderer r(context(), scene, off);
+    r.render(*scene.camera);
+    r.configure(on);
+    r.render(*scene.camera);
+    const Image toggled_on = r.hdr();
+    r.configure(off);
+    r.render(*scene.camera);
+    EXPECT_TRUE(test::identical(toggled_on, fresh_on)) << pipeline << ": switched on";
+    EXPECT_TRUE(test::identical(r.hdr(), fresh_off)) << pipeline << ": switched off";
+    int darker = 0;
+    for (int y = 0; y < fresh_on.height(); ++y)
+      for (int x = 0; x < fresh_on.width(); ++x)
+        darker += fresh_on.pixel(x, y)[1] < fresh_off.pixel(x, y)[1] - 1e-3f;
+    EXPECT_GT(darker, 20) << pipeline << ": SSAO darkened nothing";
   }
 }
 
