@@ -40,6 +40,7 @@ struct LightingTerms {
 #include "inputs/lightmap.glsl"
 #include "inputs/ssao.glsl"
 #include "inputs/light_volume.glsl"
+#include "inputs/lpv.glsl"
 
 LightingTerms gather_lighting_inputs(Surface s, int draw, vec2 frag) {
   LightingTerms t;
@@ -54,6 +55,7 @@ LightingTerms gather_lighting_inputs(Surface s, int draw, vec2 frag) {
   input_prt(s, draw, frag, t);
   input_lightmap(s, draw, frag, t);
   input_light_volume(s, draw, frag, t);
+  input_lpv(s, draw, frag, t);
 #endif
 #ifndef LIGHTING_INPUTS_SURFACE_ONLY
   input_ssao(s, draw, frag, t);

@@ -69,6 +69,14 @@ std::vector<LightingInputDecl> make_registry() {
   light_volume.summary =
       "linear irradiance volume over the scene (techniques/light_volume.cpp: a teaching example)";
   r.push_back(light_volume);
+  LightingInputDecl lpv;
+  lpv.name = "lpv";
+  lpv.terms = kTermIndirect;
+  lpv.index = kLpvInput;
+  lpv.base = kLpvInputBase;
+  lpv.bindings = {{kUbo}, {kTexture, VK_IMAGE_VIEW_TYPE_3D}};
+  lpv.summary = "light propagation volume: one bounce from the reflective shadow maps";
+  r.push_back(lpv);
   return r;
 }
 

@@ -15,12 +15,12 @@ TechniqueList& registry_list() {
   // this order (tone mapping, then the debug view, last: it shows what the others declare).
   static TechniqueList registry = [] {
     TechniqueList list = {
-        lighting_globals(),     scene_draw_globals(),      forward_technique(),
-        deferred_technique(),   no_shadows_technique(),    shadow_map_technique(),
-        vsm_technique(),        shadow_volume_technique(), baked_technique(),
-        ssao_technique(),       luminance_technique(),     bloom_technique(),
-        tonemap_technique(),    visibility_technique(),    light_volume_technique(),
-        debug_show_technique(),
+        lighting_globals(),       scene_draw_globals(),      forward_technique(),
+        deferred_technique(),     no_shadows_technique(),    shadow_map_technique(),
+        vsm_technique(),          shadow_volume_technique(), baked_technique(),
+        ssao_technique(),         luminance_technique(),     bloom_technique(),
+        tonemap_technique(),      visibility_technique(),    rsm_technique(),
+        light_volume_technique(), lpv_technique(),           debug_show_technique(),
     };
     check_declarations(list);
     return list;

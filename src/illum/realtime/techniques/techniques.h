@@ -26,6 +26,29 @@ TechniqueDecl bloom_technique();          // bloom.cpp
 TechniqueDecl tonemap_technique();        // tonemap.cpp
 TechniqueDecl debug_show_technique();     // debug_show.cpp
 TechniqueDecl light_volume_technique();   // light_volume.cpp (the worked example)
+TechniqueDecl rsm_technique();            // rsm.cpp (reflective shadow maps)
+TechniqueDecl lpv_technique();            // lpv.cpp (light propagation volumes)
+
+// The integrals a light-propagation step needs (lpv.cpp, docs/realtime-lpv.md), for unit
+// cells with the source's centre at the origin and the receiving neighbour along d = +z:
+// over its far face (z = 3⁄2) the solid angle and ∫ω·d dω; over a side face (outward axis e,
+// e.g. x = ½) the solid angle, ∫ω·e dω and ∫ω·d dω. Midpoint rule, samples² points a face.
+struct LpvFaces {
+  double far_solid_angle = 0.0, far_along = 0.0;
+  double side_solid_angle = 0.0, side_across = 0.0, side_along = 0.0;
+};
+LpvFaces lpv_face_integrals(int samples);
+
+// A directional light's reflective-shadow-map box (rsm.cpp) before snapping: the sphere around
+// the camera's frustum (`inv_view_proj`, `eye`) from its near plane out to `distance` along its
+// depth. Its radius depends on the frustum's shape only, so the box keeps its size as the
+// camera turns.
+struct RsmBox {
+  vec3 centre{0.0f};
+  float radius = 0.0f;
+};
+RsmBox rsm_directional_box(const mat4& inv_view_proj, const vec3& eye, float near_plane,
+                           float distance);
 
 // The visibility buffer's id packing (visibility.cpp): id = draw << triangle_bits | triangle.
 struct VisibilityPacking {
