@@ -16,6 +16,10 @@
 #define ILLUM_SSAO_SET_GLSL
 #include "common.glsl"
 
+// The pyramid's levels (ssao.cpp's kMaxLevels; ssao_prepare.comp's store() names each): level
+// m serves taps 2^(m+3) pixels away and more.
+const int kSsaoMaxLevels = 6;
+
 layout(std140, set = 2, binding = 0) uniform Ssao {
   vec4 shape;  // radius R, bias b, intensity k, falloff s (scene units)
   ivec4 info;  // directions N, blur radius (pixels), march steps, 1: G-buffer normals bound

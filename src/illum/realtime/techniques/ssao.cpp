@@ -5,7 +5,7 @@
 //
 // Passes (each its own timer scope): "ssao.prepare" (the plane pyramid "ssao.planes": per
 // pixel its surface plane, normals from the G-buffer or the depth buffer,
-// shaders/ssao_prepare.comp, and coarser levels, shaders/ssao_downsample.comp), "ssao" (the
+// and its coarser levels in one dispatch, shaders/ssao_prepare.comp), "ssao" (the
 // estimator, shaders/ssao.comp, into "ssao.raw": one estimate per 2×2 pixels by default, per
 // pixel with -p ssao.resolution=full), "ssao.blur" (the bilateral upsample and blur to the
 // full-resolution "ssao"). "ssao" is the `ssao` lighting input
@@ -40,7 +40,9 @@ constexpr VkFormat kAoFormat = VK_FORMAT_R32_SFLOAT;
 // Distances, plane offsets and packed normals as bits (ssao_set.glsl).
 constexpr VkFormat kPlaneFormat = VK_FORMAT_R32G32B32A32_UINT;
 // Level m serves taps 2^(m+3) pixels away and more: 6 levels keep 32-pixel texels for the
-// farthest taps (a radius projected past 256 pixels), with few small dispatches.
+// farthest taps (a radius projected past 256 pixels), and one prepare group (32×32 pixels,
+// shaders/ssao_prepare.comp) holds every source of its coarse texels. Must match
+// kSsaoMaxLevels of shaders/ssao_set.glsl.
 constexpr uint32_t kMaxLevels = 6;
 const char* const kGbufferNormals = "gbuffer.normal";
 
@@ -53,10 +55,9 @@ class Ssao final : public Technique {
     const auto storage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
     set_layout_ = gpu::DescriptorSetLayout(
         ctx.gpu, {B{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, B{1, cis}, B{2, cis}, B{3, cis},
-                  B{4, storage}, B{5, storage}, B{6, cis}});
+                  B{4, storage}, B{5, storage}, B{6, cis}, B{7, storage, kMaxLevels}});
     layout_ = ctx.globals.shading_layout(set_layout_.handle());
     prepare_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_prepare.comp");
-    downsample_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_downsample.comp");
     estimate_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao.comp");
     blur_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "ssao_blur.comp");
     show_ = param<std::string>("output") == "ao";
@@ -64,7 +65,6 @@ class Ssao final : public Technique {
     uniforms_ = gpu::Buffer(ctx.gpu, sizeof(SsaoUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                             gpu::MemoryUsage::kUpload);
     for (VkDescriptorSet& s : sets_) s = descriptors_.allocate(set_layout_);
-    for (VkDescriptorSet& s : level_sets_) s = descriptors_.allocate(set_layout_);
   }
 
   void declare(FrameGraph& graph) override {
@@ -95,16 +95,8 @@ class Ssao final : public Technique {
     n.phase = Phase::kScreenSpace;
     n.accesses = inputs;
     n.accesses.push_back(planes_write);
-    n.accesses.push_back(planes_read);
-    n.record = [this, planes_write, planes_read](PassContext& pass) {
-      pass.use(planes_write.mips(0));
-      dispatch(pass, prepare_, sets_[kPrepareSet]);
-      for (uint32_t m = 1; m < levels_; ++m) {
-        pass.use(planes_read.mips(m - 1));
-        pass.use(planes_write.mips(m));
-        dispatch(pass, downsample_, level_sets_[m - 1],
-                 {std::max(ctx_.width() >> m, 1u), std::max(ctx_.height() >> m, 1u)});
-      }
+    n.record = [this](PassContext& pass) {
+      dispatch(pass, prepare_, sets_[kPrepareSet], {0, 0}, kPrepareBlock);
     };
     graph.add_pass(std::move(n));
     PassDesc e;
@@ -165,6 +157,11 @@ class Ssao final : public Technique {
     auto write = [&](gpu::DescriptorWriter& w, VkDescriptorSet s, VkImageView normal_view,
                      VkImageView source, VkImageView target, VkImageView hdr,
                      VkImageView plane_view) {
+      // Binding 7: the pyramid's levels as storage images (levels past levels_ repeat the
+      // last; the prepare pass writes only levels_).
+      for (uint32_t m = 0; m < kMaxLevels; ++m)
+        w.image(s, 7, storage, planes.mip_view(std::min(m, levels_ - 1)), VK_NULL_HANDLE,
+                VK_IMAGE_LAYOUT_GENERAL, m);
       w.buffer(s, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
           .image(s, 1, cis, depth, nearest,
                  VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL)
@@ -177,8 +174,6 @@ class Ssao final : public Technique {
     gpu::DescriptorWriter w;
     const VkImageView all_planes = planes.view();
     write(w, sets_[kPrepareSet], normals, dummy, planes.mip_view(0), raw, all_planes);
-    for (uint32_t m = 1; m < levels_; ++m)
-      write(w, level_sets_[m - 1], dummy, dummy, planes.mip_view(m), raw, planes.mip_view(m - 1));
     write(w, sets_[kEstimateSet], normals, dummy, raw, raw, all_planes);
     write(w, sets_[kBlurSet], normals, raw, ao, raw, all_planes);
     write(w, sets_[kApplySet], dummy, ao, raw, show_ ? r.image("hdr").view() : raw, all_planes);
@@ -208,9 +203,9 @@ class Ssao final : public Technique {
     return radius > 0.0f ? radius : kAutoRadius * ctx_.scene.bounds().diagonal();
   }
 
-  // Over `size` invocations (0: the frame's size), 8×8 a group.
+  // Over `size` pixels (0: the frame's size), group × group pixels a workgroup.
   void dispatch(PassContext& pass, const gpu::Pipeline& pipeline, VkDescriptorSet set,
-                glm::uvec2 size = {0, 0}) {
+                glm::uvec2 size = {0, 0}, uint32_t group = 8) {
     if (size.x == 0) size = {ctx_.width(), ctx_.height()};
     const VkCommandBuffer c = pass.cmd();
     bind_shading_sets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), ctx_.globals,
@@ -218,10 +213,12 @@ class Ssao final : public Technique {
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     const PushConstants push{};
     vkCmdPushConstants(c, layout_.handle(), VK_SHADER_STAGE_ALL, 0, sizeof(push), &push);
-    vkCmdDispatch(c, (size.x + 7) / 8, (size.y + 7) / 8, 1);
+    vkCmdDispatch(c, (size.x + group - 1) / group, (size.y + group - 1) / group, 1);
   }
 
   static constexpr float kAutoRadius = 0.02f;
+  // The pixels of one prepare workgroup across: its coarsest texel.
+  static constexpr uint32_t kPrepareBlock = 1u << (kMaxLevels - 1);
 
   bool show_ = false, gbuffer_normals_ = false;
   uint32_t divisor_ = 1, levels_ = 1;
@@ -229,10 +226,9 @@ class Ssao final : public Technique {
   gpu::DescriptorAllocator descriptors_;
   gpu::DescriptorSetLayout set_layout_;
   gpu::PipelineLayout layout_;
-  gpu::Pipeline prepare_, downsample_, estimate_, blur_, show_pass_;
+  gpu::Pipeline prepare_, estimate_, blur_, show_pass_;
   gpu::Buffer uniforms_;
   VkDescriptorSet sets_[kSets] = {};
-  VkDescriptorSet level_sets_[kMaxLevels - 1] = {};  // the pyramid's downsample, per level
 };
 
 }  // namespace
