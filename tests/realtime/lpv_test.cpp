@@ -187,7 +187,7 @@ Volume propagate(const std::vector<Surfel>& surfels, int iterations) {
   o.shadows = "surfels";
   o.enable("lpv");
   o.set("lpv.source", std::string("surfels"));
-  o.set("lpv.grid", std::string("16"));
+  o.set("lpv.grid", 16);
   o.set("lpv.cell", 1.0f);
   o.set("lpv.iterations", iterations);
   Renderer r(context(), scene, o);
@@ -407,7 +407,7 @@ TEST_F(LpvTest, TheIndirectTermIsTheVolumesIrradiance) {
   const Image without = off.hdr();
   o.enable("lpv");
   o.set("lpv.source", std::string("surfels"));
-  o.set("lpv.grid", std::string("16"));
+  o.set("lpv.grid", 16);
   o.set("lpv.cell", 1.0f);
   o.set("lpv.iterations", 4);
   o.set("lpv.dampening", 0.0f);

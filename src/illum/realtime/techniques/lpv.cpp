@@ -104,7 +104,10 @@ class Lpv final : public Technique {
     for (VkDescriptorSet& s : sets_) s = descriptors_.allocate(set_layout_);
     inject_set_ = descriptors_.allocate(inject_set_layout_);
 
-    n_ = static_cast<uint32_t>(std::stoi(param<std::string>("grid")));
+    const int grid = param<int>("grid");
+    if (grid != 16 && grid != 32 && grid != 64)
+      throw Error(fmt::format("-p lpv.grid={}: 16, 32 or 64", grid));
+    n_ = static_cast<uint32_t>(grid);
     source_ = param<std::string>("source");
     const VkDeviceSize cells = VkDeviceSize(n_) * n_ * n_;
     const VkDeviceSize corners = VkDeviceSize(n_ + 1) * (n_ + 1) * (n_ + 1);
@@ -128,6 +131,12 @@ class Lpv final : public Technique {
   }
 
   void declare(FrameGraph& graph) override {
+    // The source is named by the user: the maps must be declared before lpv is (rsm, and
+    // shadow methods, declare earlier).
+    for (const char* part : {".position", ".normal", ".flux", ".views"})
+      if (!graph.has_resource(source_ + part))
+        throw Error(fmt::format("-p lpv.source={}: nothing in this frame declares '{}{}'", source_,
+                                source_, part));
     ResourceDesc r;
     r.name = kAccum;
     r.width = 3 * n_;  // R, G and B parts side by side
@@ -299,7 +308,7 @@ TechniqueDecl lpv_technique() {
       "lobes, propagated cell to cell conserving flux, looked up as the indirect term";
   t.dependencies = {"rsm"};
   t.params = {
-      enum_param("grid", "32", {"16", "32", "64"}, "cells along each axis").structural(),
+      int_param("grid", 32, 16, 64, "cells along each axis: 16, 32 or 64").structural(),
       float_param("cell", 0.0f, 0.0f, 1e4f,
                   "cell size (world units) of a box around the camera, snapped to it; 0: "
                   "cubic cells covering the scene's bounds"),
