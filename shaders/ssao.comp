@@ -23,7 +23,7 @@ layout(set = 2, binding = 4, r32f) uniform writeonly image2D ao_out;
 
 // Steps along each direction (ssao.cpp's kMarchSteps): a compile-time count, so the fetches
 // unroll.
-const int kSteps = 8;
+const int kSteps = 6;
 
 // Taps nearer than 2^kDenseLog2 pixels read level 0 (exact per pixel); each doubling of the distance one
 // level coarser (SAO's rule).
@@ -157,7 +157,7 @@ void main() {
       if (t_plane >= lo && t_plane <= hi) {
         hi = t_plane;
       } else {
-        for (int k = 0; k < 5; ++k) {
+        for (int k = 0; k < 6; ++k) {
           float mid = 0.5 * (lo + hi);
           if (behind(h_p + mid * h_w, po + w * mid, radius, origin, hn, hd) == 1) hi = mid;
           else lo = mid;

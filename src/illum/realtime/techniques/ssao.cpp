@@ -194,9 +194,10 @@ class Ssao final : public Technique {
 
  private:
   enum { kPrepareSet, kEstimateSet, kBlurSet, kApplySet, kSets };
-  // Steps along each direction before the bisection (5 halvings: the hit distance is known
-  // to R/(8·32)).
-  static constexpr int kMarchSteps = 8;
+  // Steps along each direction before the bisection (6 halvings: the hit distance is known
+  // to R/(6·64)). Six steps estimate as closely as eight did (Cornell and Sibenik against the
+  // offline ao, docs/realtime-ssao.md) with a quarter fewer fetches and comparisons.
+  static constexpr int kMarchSteps = 6;
 
   float radius_in_scene_units() const {
     const float radius = param<float>("radius");
