@@ -209,6 +209,32 @@ void FrameGlobals::update(const FrameView& view, const RenderSettings& s, size_t
   write_view(0, view, {width, height});
 }
 
+namespace {
+const vec3 kCubeAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+const vec3 kCubeUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+}  // namespace
+
+vec3 cube_face_axis(int face) {
+  return kCubeAxes[face];
+}
+
+mat4 cube_face_view(const vec3& eye, int face) {
+  return glm::lookAtRH(eye, eye + kCubeAxes[face], kCubeUps[face]);
+}
+
+FrameView light_view(const mat4& view, const mat4& proj, const vec3& eye, float near_plane,
+                     float far_plane) {
+  FrameView v;
+  v.camera.position = eye;
+  v.view = view;
+  v.proj = proj;
+  v.view_proj = proj * view;
+  v.inv_view_proj = glm::inverse(v.view_proj);
+  v.near_plane = near_plane;
+  v.far_plane = far_plane;
+  return v;
+}
+
 FrameView camera_view(const Camera& camera, const Bounds3& b, uint32_t width, uint32_t height) {
   FrameView view;
   const float aspect = static_cast<float>(width) / static_cast<float>(height);

@@ -37,6 +37,15 @@ class FrameGlobals;
 // one 1e-3 of it, the aspect of `width` × `height`.
 FrameView camera_view(const Camera& camera, const Bounds3& bounds, uint32_t width, uint32_t height);
 
+// A view from a light's matrices (shadow maps, reflective shadow maps): `eye` is the light's
+// position (or the box's centre for an orthographic view).
+FrameView light_view(const mat4& view, const mat4& proj, const vec3& eye, float near_plane,
+                     float far_plane);
+// The view matrix of cube face `face` (+x, −x, +y, −y, +z, −z) seen from `eye`: the OpenGL
+// cube-map axes and up vectors, as the shaders' cube lookups expect.
+mat4 cube_face_view(const vec3& eye, int face);
+vec3 cube_face_axis(int face);
+
 // Views of the camera block a technique holds (FrameGlobals::add_views), given back when
 // destroyed.
 class ViewSlots {

@@ -62,19 +62,6 @@ int checked_lights(int index, size_t light_count) {
   return index;
 }
 
-FrameView light_frame_view(const mat4& view, const mat4& proj, const vec3& eye, float near_plane,
-                           float far_plane) {
-  FrameView v;
-  v.camera.position = eye;
-  v.view = view;
-  v.proj = proj;
-  v.view_proj = proj * view;
-  v.inv_view_proj = glm::inverse(v.view_proj);
-  v.near_plane = near_plane;
-  v.far_plane = far_plane;
-  return v;
-}
-
 class Rsm final : public Technique {
  public:
   Rsm(TechniqueContext& ctx, const TechniqueDecl& decl) : Technique(ctx, decl) {
@@ -220,17 +207,14 @@ class Rsm final : public Technique {
       *tan_half = std::tan(l.cone_half_angle);
       *axis = dir;
       const mat4 proj = glm::perspectiveRH_ZO(2.0f * l.cone_half_angle, 1.0f, near, far);
-      return light_frame_view(glm::lookAtRH(l.position, l.position + dir, up), proj, l.position,
-                              near, far);
+      return light_view(glm::lookAtRH(l.position, l.position + dir, up), proj, l.position, near,
+                        far);
     }
-    // The OpenGL cube-face axes and up vectors (as the shadow maps' cubes).
-    const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    // The cube faces of the shadow maps.
     *tan_half = 1.0f;
-    *axis = axes[lv.face];
+    *axis = cube_face_axis(lv.face);
     const mat4 proj = glm::perspectiveRH_ZO(radians(90.0f), 1.0f, near, far);
-    return light_frame_view(glm::lookAtRH(l.position, l.position + axes[lv.face], ups[lv.face]),
-                            proj, l.position, near, far);
+    return light_view(cube_face_view(l.position, lv.face), proj, l.position, near, far);
   }
 
   // The orthographic box of a directional light: the sphere around the camera's frustum up to
@@ -267,7 +251,7 @@ class Rsm final : public Technique {
     const mat4 proj = glm::orthoRH_ZO(c.x - r, c.x + r, c.y - r, c.y + r, lo, hi);
     *texel_area = texel * texel;
     const vec3 centre = vec3(glm::inverse(light) * vec4(c.x, c.y, -0.5f * (lo + hi), 1.0f));
-    return light_frame_view(light, proj, centre, lo, hi);
+    return light_view(light, proj, centre, lo, hi);
   }
 
   void record(PassContext& pass) {

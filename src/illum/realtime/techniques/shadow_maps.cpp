@@ -234,11 +234,9 @@ class ShadowMaps final : public ShadowMethod {
       // No y flip: Vulkan and OpenGL both map NDC y = −1 to the first row in memory, so the
       // OpenGL cube-face conventions (face axes and up vectors) apply unchanged.
       const mat4 proj = glm::perspectiveRH_ZO(radians(90.0f), 1.0f, far_plane * 1e-4f, far_plane);
-      const vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-      const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
       for (int f = 0; f < 6; ++f) {
-        cameras.push_back(shadow_camera(glm::lookAtRH(l.position, l.position + axes[f], ups[f]),
-                                        proj, l.position, far_plane * 1e-4f, far_plane));
+        cameras.push_back(light_view(cube_face_view(l.position, f), proj, l.position,
+                                     far_plane * 1e-4f, far_plane));
         views.push_back(cameras.back().view_proj);
       }
     }
@@ -253,8 +251,8 @@ class ShadowMaps final : public ShadowMethod {
       const vec3 dir = glm::normalize(l.direction);
       const vec3 up = std::abs(dir.y) > 0.99f ? vec3(1, 0, 0) : vec3(0, 1, 0);
       const mat4 proj = glm::perspectiveRH_ZO(2.0f * half_fov, 1.0f, far_plane * 1e-4f, far_plane);
-      cameras.push_back(shadow_camera(glm::lookAtRH(l.position, l.position + dir, up), proj,
-                                      l.position, far_plane * 1e-4f, far_plane));
+      cameras.push_back(light_view(glm::lookAtRH(l.position, l.position + dir, up), proj,
+                                   l.position, far_plane * 1e-4f, far_plane));
       views.push_back(cameras.back().view_proj);
     }
     ShadowUniforms u{};
@@ -289,19 +287,6 @@ class ShadowMaps final : public ShadowMethod {
   VkFormat cascade_format() const { return vsm_ ? kVsmFormat : cascade_depth_format_; }
   int cascade_view_offset() const {
     return static_cast<int>(6 * cube_lights_.size() + spot_lights_.size());
-  }
-  // A shadow view as the camera block holds it (view_proj: proj × view, the map's transform).
-  static FrameView shadow_camera(const mat4& view, const mat4& proj, const vec3& eye,
-                                 float near_plane, float far_plane) {
-    FrameView v;
-    v.camera.position = eye;
-    v.view = view;
-    v.proj = proj;
-    v.view_proj = proj * view;
-    v.inv_view_proj = glm::inverse(v.view_proj);
-    v.near_plane = near_plane;
-    v.far_plane = far_plane;
-    return v;
   }
   float shadow_far(const Light& l) const {
     if (l.range > 0.0f) return l.range;
@@ -451,7 +436,7 @@ class ShadowMaps final : public ShadowMethod {
           glm::orthoRH_ZO(-radius, radius, -radius, radius, 0.0f, scene_extent + radius);
       // The eye of an orthographic view: where its view matrix puts the origin.
       cameras->push_back(
-          shadow_camera(view, proj, vec3(glm::inverse(view)[3]), 0.0f, scene_extent + radius));
+          light_view(view, proj, vec3(glm::inverse(view)[3]), 0.0f, scene_extent + radius));
       views->push_back(cameras->back().view_proj);
       (*half_widths)[k] = radius;
       receivers->push_back(receiver_region(proj * view, corners, texel, radius, scene_extent));
