@@ -6,9 +6,11 @@
 #ifndef ILLUM_LPV_COMMON_GLSL
 #define ILLUM_LPV_COMMON_GLSL
 
+#include "sh.glsl"
+
 const float kLpvPi = 3.14159265358979;
-const float kLpvY0 = 0.28209479177387814;  // 1/(2√π)
-const float kLpvY1 = 0.4886025119029199;   // √(3/4π)
+const float kLpvY0 = kShY00;  // 1/(2√π): the one definition in sh.glsl
+const float kLpvY1 = kShY1;   // √(3/4π)
 
 // Must match LpvUniforms in techniques/lpv.cpp (std140).
 layout(std140, set = 0, binding = 0) uniform LpvParams {
