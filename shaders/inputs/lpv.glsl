@@ -11,7 +11,7 @@
 layout(std140, set = kInputsSet, binding = kLpvInputBase) uniform LpvInput {
   vec4 lo;      // xyz: the volume's min corner; w: the cell size s
   ivec4 info;   // x: cells per axis
-  vec4 params;  // x: amplification, y: dampening
+  vec4 params;  // x: amplification
 } lpv_input;
 layout(set = kInputsSet, binding = kLpvInputBase + 1) uniform sampler3D lpv_accum;
 
@@ -22,29 +22,18 @@ vec4 lpv_sample(int c, vec3 p) {
 }
 
 vec3 lpv_irradiance(vec3 p, vec3 n) {
-  vec3 e;
-  for (int c = 0; c < 3; ++c) {
-    vec4 v = lpv_sample(c, p);
-    e[c] = 0.886226925452758 * v.x - 1.0233267079464885 * dot(v.yzw, n);
-  }
+  // The three channels written out: a loop storing e[c] crashed lavapipe's (Mesa 22.3)
+  // compiler now and then (heap corruption while building the visibility resolve).
+  vec4 r = lpv_sample(0, p), g = lpv_sample(1, p), b = lpv_sample(2, p);
+  vec3 e = 0.886226925452758 * vec3(r.x, g.x, b.x) -
+           1.0233267079464885 * vec3(dot(r.yzw, n), dot(g.yzw, n), dot(b.yzw, n));
   return max(e, vec3(0.0)) / (lpv_input.lo.w * lpv_input.lo.w);
 }
 
 void input_lpv(Surface s, int draw, vec2 frag, inout LightingTerms t) {
   if (!input_active(kLpvInput) || t.has_indirect) return;
   vec3 e = lpv_irradiance(s.p, s.n);
-  // Derivative dampening against leaks through thin walls: light the normal sees is stronger
-  // half a cell behind the surface than half a cell in front of it only where it comes
-  // through the surface; the term is scaled down by that excess, relative, × dampening.
-  float damp = 1.0;
-  if (lpv_input.params.y > 0.0) {
-    float h = 0.5 * lpv_input.lo.w;
-    vec3 front = lpv_irradiance(s.p + h * s.n, s.n);
-    vec3 behind = lpv_irradiance(s.p - h * s.n, s.n);
-    float b = dot(behind, vec3(1.0)), f = dot(front, vec3(1.0));
-    if (b > f) damp = clamp(1.0 - lpv_input.params.y * (b - f) / b, 0.0, 1.0);
-  }
-  t.indirect = s.albedo * e * (lpv_input.params.x * damp / kPi);
+  t.indirect = s.albedo * e * (lpv_input.params.x / kPi);
   t.has_indirect = true;
 }
 

@@ -47,7 +47,7 @@ static_assert(sizeof(LpvUniforms) == 64);
 struct LpvInputUniforms {
   glm::vec4 lo;      // xyz: the volume's min corner; w: the cell size
   glm::ivec4 info;   // x: cells per axis
-  glm::vec4 params;  // x: amplification, y: dampening
+  glm::vec4 params;  // x: amplification
 };
 static_assert(sizeof(LpvInputUniforms) == 48);
 
@@ -217,7 +217,7 @@ class Lpv final : public Technique {
     LpvInputUniforms in{};
     in.lo = u_.lo;
     in.info = glm::ivec4(static_cast<int>(n_), 0, 0, 0);
-    in.params = vec4(param<float>("amplification"), param<float>("dampening"), 0.0f, 0.0f);
+    in.params = vec4(param<float>("amplification"), 0.0f, 0.0f, 0.0f);
     input_uniforms_.write(&in, sizeof(in));
   }
 
@@ -314,9 +314,6 @@ TechniqueDecl lpv_technique() {
                   "cubic cells covering the scene's bounds"),
       int_param("iterations", 8, 0, 64, "propagation steps per frame"),
       float_param("amplification", 1.0f, 0.0f, 100.0f, "scales the indirect term"),
-      float_param("dampening", 1.0f, 0.0f, 4.0f,
-                  "how strongly light that comes through a surface (more behind it than in "
-                  "front) is damped; 0: off"),
       string_param("source", "rsm",
                    "the maps injected: SOURCE.position, .normal, .flux and .views, laid out "
                    "as the reflective shadow maps' (rsm_views.h)")
