@@ -52,10 +52,10 @@ struct DrawTargets {
 // What the push constants say about the view: `view` is the camera block's view every variant
 // draws from (push.view: view 0 the frame's camera, others added by a technique,
 // FrameGlobals::add_views); shadow passes also name their light. Colour passes (per_draw) push
-// each draw's index as push.draw, for per-draw data such as the ambient cube (shaders/inputs/probes.glsl);
-// depth-like ones leave it 0, so draws sharing a transform push nothing. `mode` goes to
-// push.mode (forward.frag: 0 all lights, 1 emission + ambient only, 2 the one light
-// light_index, unshadowed).
+// each draw's index as push.draw, for per-draw data such as the ambient cube
+// (shaders/inputs/probes.glsl); depth-like ones leave it 0, so draws sharing a transform push
+// nothing. `mode` goes to push.mode (forward.frag: 0 all lights, 1 emission + ambient only, 2 the
+// one light light_index, unshadowed).
 //
 // `cull`, when set, is the view's clip transform (world to clip): clusters wholly outside its
 // clip volume are not drawn — exactly what the clipper would discard, so the image does not
