@@ -42,6 +42,9 @@ std::span<const Suite> suites() {
        &run_photon_defaults},
       {"converge", "equal-noise efficiency 1/(variance x time), illum vs Blender Cycles",
        &run_converge},
+      {"gi-compare",
+       "a real-time frame's indirect light vs the path tracer's first indirect bounce",
+       &run_gi_compare},
 #ifdef ILLUM_BENCH_HAVE_GPU
       {"raster", "real-time passes (illum frame --json) beside this GPU's raster and memory bounds",
        &run_raster},

@@ -48,6 +48,8 @@ int run_prt_point_check(SuiteArgs args);
 int run_photon_defaults(SuiteArgs args);
 // bench_converge.cpp: equal-noise efficiency, illum vs Blender Cycles (peer)
 int run_converge(SuiteArgs args);
+// bench_gi_compare.cpp: a real-time frame's indirect light vs the path tracer's indirect1
+int run_gi_compare(SuiteArgs args);
 #ifdef ILLUM_BENCH_HAVE_GPU
 int run_raster(SuiteArgs args);  // bench_raster.cpp: real-time passes beside the device's bounds
 // bench_probes_dynamic.cpp: a dynamic object lit by the probe volume vs the path tracer
