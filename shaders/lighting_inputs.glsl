@@ -7,7 +7,7 @@
 // surface, in the order below (a probed dynamic object takes the probes even where a
 // light-map is bound); `indirect_has_visibility` says it already holds the surface's own
 // visibility (PRT transfer); occlusions combine by minimum (ambient_occlusion.glsl);
-// `specular` and `extra` add radiance (environment maps, VPLs; no input fills them yet).
+// `specular` and `extra` add radiance (environment maps; no input fills them yet).
 //
 // The deferred pipeline's G-buffer pass runs before the screen-space phase: it defines
 // LIGHTING_INPUTS_SURFACE_ONLY and a later pass (deferred_inputs.comp) gathers the
@@ -41,6 +41,7 @@ struct LightingTerms {
 #include "inputs/ssao.glsl"
 #include "inputs/light_volume.glsl"
 #include "inputs/lpv.glsl"
+#include "inputs/vpl.glsl"
 
 LightingTerms gather_lighting_inputs(Surface s, int draw, vec2 frag) {
   LightingTerms t;
@@ -58,6 +59,7 @@ LightingTerms gather_lighting_inputs(Surface s, int draw, vec2 frag) {
   input_lpv(s, draw, frag, t);
 #endif
 #ifndef LIGHTING_INPUTS_SURFACE_ONLY
+  input_vpl(s, draw, frag, t);
   input_ssao(s, draw, frag, t);
 #endif
   return t;

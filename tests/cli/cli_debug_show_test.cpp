@@ -24,7 +24,7 @@ TEST_F(CliDebugShow, ListingNamesTheDependencies) {
     if (t["name"] == "debug") {
       debug = true;
       EXPECT_EQ(t["dependencies"], nlohmann::json::array({"tonemap"}));
-    } else if (t["name"] == "lpv") {
+    } else if (t["name"] == "lpv" || t["name"] == "vpl") {
       EXPECT_EQ(t["dependencies"], nlohmann::json::array({"rsm"}));
     } else {
       EXPECT_TRUE(t["dependencies"].empty()) << t["name"];

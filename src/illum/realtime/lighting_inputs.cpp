@@ -77,6 +77,15 @@ std::vector<LightingInputDecl> make_registry() {
   lpv.bindings = {{kUbo}, {kTexture, VK_IMAGE_VIEW_TYPE_3D}};
   lpv.summary = "light propagation volume: one bounce from the reflective shadow maps";
   r.push_back(lpv);
+  LightingInputDecl vpl;
+  vpl.name = "vpl";
+  vpl.terms = kTermIndirect;
+  vpl.index = kVplInput;
+  vpl.base = kVplInputBase;
+  vpl.bindings = {{kTexture, VK_IMAGE_VIEW_TYPE_2D}};
+  vpl.screen_space = true;
+  vpl.summary = "virtual point lights' irradiance per pixel (one bounce from the RSMs)";
+  r.push_back(vpl);
   return r;
 }
 

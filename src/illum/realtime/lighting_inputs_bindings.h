@@ -21,13 +21,15 @@ ILLUM_INPUTS_CONST int kLightmapInputBase = 8;      // UBO, light-map array
 ILLUM_INPUTS_CONST int kSsaoInputBase = 10;         // the "ssao" image
 ILLUM_INPUTS_CONST int kLightVolumeInputBase = 11;  // UBO, the volume's copies 0 and 1
 ILLUM_INPUTS_CONST int kLpvInputBase = 14;          // UBO, "lpv.accum"
-ILLUM_INPUTS_CONST int kInputBindings = 16;         // one past the last binding
+ILLUM_INPUTS_CONST int kVplInputBase = 16;          // "vpl.irradiance"
+ILLUM_INPUTS_CONST int kInputBindings = 17;         // one past the last binding
 ILLUM_INPUTS_CONST int kProbesInput = 0;
 ILLUM_INPUTS_CONST int kPrtInput = 1;
 ILLUM_INPUTS_CONST int kLightmapInput = 2;
 ILLUM_INPUTS_CONST int kSsaoInput = 3;
 ILLUM_INPUTS_CONST int kLightVolumeInput = 4;
 ILLUM_INPUTS_CONST int kLpvInput = 5;
+ILLUM_INPUTS_CONST int kVplInput = 6;
 ILLUM_INPUTS_CONST int kMaxLightingInputs = 8;  // flags in the state block
 
 #ifdef __cplusplus

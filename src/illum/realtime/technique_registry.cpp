@@ -20,7 +20,8 @@ TechniqueList& registry_list() {
         vsm_technique(),          shadow_volume_technique(), baked_technique(),
         ssao_technique(),         luminance_technique(),     bloom_technique(),
         tonemap_technique(),      visibility_technique(),    rsm_technique(),
-        light_volume_technique(), lpv_technique(),           debug_show_technique(),
+        light_volume_technique(), lpv_technique(),           vpl_technique(),
+        debug_show_technique(),
     };
     check_declarations(list);
     return list;

@@ -28,6 +28,7 @@ TechniqueDecl debug_show_technique();     // debug_show.cpp
 TechniqueDecl light_volume_technique();   // light_volume.cpp (the worked example)
 TechniqueDecl rsm_technique();            // rsm.cpp (reflective shadow maps)
 TechniqueDecl lpv_technique();            // lpv.cpp (light propagation volumes)
+TechniqueDecl vpl_technique();            // vpl.cpp (virtual point lights from the RSMs)
 
 // The integrals a light-propagation step needs (lpv.cpp, docs/realtime-lpv.md), for unit
 // cells with the source's centre at the origin and the receiving neighbour along d = +z:
