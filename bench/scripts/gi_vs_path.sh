@@ -19,8 +19,9 @@
 # and a markdown row per scene appended to OUTDIR/rows.md. The path-traced images are kept
 # (SCENE-WxH-SPPspp-seedN.exr) and reused by later runs of the same size and spp.
 # Sizes: cornell-spot 256×256 and sibenik 320×200 by default (WIDTH and HEIGHT override
-# both), SPP path samples per pixel per seed (cornell-spot 1024, sibenik 512). Time on the
-# 2-core machine: about 2 min for cornell-spot, 12 min for sibenik (path tracer almost all).
+# both), SPP path samples per pixel per seed (1024). Time on the 2-core machine, loaded by
+# other builds: about 3 min for cornell-spot, 12 min for sibenik, almost all of it the path
+# tracer (bench/results/gi.md).
 set -euo pipefail
 if [ $# -lt 3 ]; then
   echo "usage: $0 ILLUM ILLUM_BENCH OUTDIR [SCENE ...] [-- FRAME OPTIONS]" >&2
@@ -41,8 +42,8 @@ start=$(date +%s)
 for scene in "${scenes[@]}"; do
   case $scene in
     cornell-spot) w=${WIDTH:-256} h=${HEIGHT:-256} spp=${SPP:-1024} ;;
-    sibenik) w=${WIDTH:-320} h=${HEIGHT:-200} spp=${SPP:-512} ;;
-    *) w=${WIDTH:-256} h=${HEIGHT:-256} spp=${SPP:-512} ;;
+    sibenik) w=${WIDTH:-320} h=${HEIGHT:-200} spp=${SPP:-1024} ;;
+    *) w=${WIDTH:-256} h=${HEIGHT:-256} spp=${SPP:-1024} ;;
   esac
   size=(--width "$w" --height "$h")
   frame=("$illum" frame "$scene" "${size[@]}" -p 'ambient=[0,0,0]')

@@ -33,6 +33,7 @@
 
 #include <fmt/format.h>
 
+#include "gi_compare.h"
 #include "illum/core/auto_exposure.h"
 #include "illum/core/color.h"
 #include "illum/core/error.h"
@@ -44,17 +45,6 @@
 namespace illum::bench {
 
 namespace {
-
-double luminance(const Color& c) {
-  return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-}
-
-enum Region { kFloor, kCeiling, kWalls, kCreases, kRegions };
-const char* const kRegionNames[kRegions] = {"floor", "ceiling", "walls", "creases"};
-
-struct Sums {
-  double n = 0, l = 0, p = 0, abs_err = 0, sq_err = 0, noise_abs = 0, noise_sq = 0;
-};
 
 Image read_sized(const std::string& path, int width, int height) {
   Image image = read_image(path);
@@ -104,100 +94,22 @@ int run_gi_compare(SuiteArgs args) {
   std::vector<Image> refs;
   for (const std::string& p : reference_paths) refs.push_back(read_sized(p, w, h));
 
-  // Per pixel: L, P, the two-run spread, the region (−1: no surface).
+  GiComparison cmp = compare_gi(no_gi, gi, refs, normals);
+  nlohmann::json& result = cmp.figures;
+  result["suite"] = "gi-compare";
+  result["label"] = label;
   const size_t count = size_t(w) * size_t(h);
-  std::vector<double> L(count), P(count), spread(count, 0.0);
-  std::vector<vec3> n(count);
-  std::vector<int> region(count, -1);
-  std::vector<bool> crease(count, false);
-  Image reference(w, h, 3), indirect(w, h, 3);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      const Color rt = gi.rgb(x, y) - no_gi.rgb(x, y);
-      Color ref(0.0f);
-      for (const Image& r : refs) ref += r.rgb(x, y) / float(refs.size());
-      indirect.set_rgb(x, y, rt);
-      reference.set_rgb(x, y, ref);
-      L[i] = luminance(rt);
-      P[i] = luminance(ref);
-      if (refs.size() >= 2) spread[i] = luminance(refs[0].rgb(x, y)) - luminance(refs[1].rgb(x, y));
-      const Color c = normals.rgb(x, y);
-      const vec3 v(2.0f * c[0] - 1.0f, 2.0f * c[1] - 1.0f, 2.0f * c[2] - 1.0f);
-      const float len = glm::length(v);
-      if (len < 0.5f || len > 1.5f) continue;  // no hit: the view's black is (−1, −1, −1)
-      n[i] = v / len;
-      region[i] = n[i].y > 0.7f ? kFloor : n[i].y < -0.7f ? kCeiling : kWalls;
-    }
-  constexpr int kCreaseRadius = 2;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      if (region[i] < 0) continue;
-      for (int dy = -kCreaseRadius; dy <= kCreaseRadius && !crease[i]; ++dy)
-        for (int dx = -kCreaseRadius; dx <= kCreaseRadius; ++dx) {
-          const int xx = x + dx, yy = y + dy;
-          if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-          const size_t j = size_t(yy) * w + xx;
-          if (region[j] >= 0 && glm::dot(n[i], n[j]) < 0.7071f) {
-            crease[i] = true;
-            break;
-          }
-        }
-    }
-
-  double sum_l = 0, sum_p = 0;
-  for (size_t i = 0; i < count; ++i) sum_l += L[i], sum_p += P[i];
-  if (!(sum_p > 0.0))
-    throw Error(fmt::format("{}: the reference has no indirect light", reference_paths[0]));
-  const double k = sum_l / sum_p;
-  const double safe_k = k > 0.0 ? k : 1.0;
-  Sums all, per[kRegions];
-  const auto add = [&](Sums& s, size_t i) {
-    const double e = L[i] / safe_k - P[i];
-    s.n += 1, s.l += L[i], s.p += P[i], s.abs_err += std::abs(e), s.sq_err += e * e;
-    s.noise_abs += std::abs(spread[i]) / 2.0, s.noise_sq += spread[i] * spread[i] / 4.0;
-  };
-  for (size_t i = 0; i < count; ++i) {
-    add(all, i);
-    if (region[i] >= 0) add(per[region[i]], i);
-    if (crease[i]) add(per[kCreases], i);
-  }
   const bool noise = refs.size() >= 2;
-  const auto figures = [&](const Sums& s) {
-    const double mean_p = s.p / std::max(s.n, 1.0);
-    nlohmann::json j = {{"pixels", s.n},
-                        {"mean_realtime", s.l / std::max(s.n, 1.0)},
-                        {"mean_reference", mean_p},
-                        {"scale", s.p > 0 ? s.l / s.p : 0.0},
-                        {"rel_l1", s.p > 0 ? s.abs_err / s.p : 0.0},
-                        {"rel_rmse", mean_p > 0 ? std::sqrt(s.sq_err / s.n) / mean_p : 0.0}};
-    if (noise) {
-      // σ of the mean of two runs per pixel is |a − b|/2; E|mean − truth| of a normal
-      // variable is that σ·√(2/π), as is E|a − b|/2, so the L1 floor is Σ|a − b|/2 / ΣP.
-      j["reference_rel_se_of_mean"] = s.p > 0 ? std::sqrt(s.noise_sq) / s.p : 0.0;
-      j["reference_rel_l1"] = s.p > 0 ? s.noise_abs / s.p : 0.0;
-      j["reference_rel_rmse"] = mean_p > 0 ? std::sqrt(s.noise_sq / s.n) / mean_p : 0.0;
-    }
-    return j;
-  };
-  nlohmann::json result = {
-      {"suite", "gi-compare"},         {"label", label},       {"width", w}, {"height", h},
-      {"reference_runs", refs.size()}, {"image", figures(all)}};
-  double channel_scale[3];
-  for (int c = 0; c < 3; ++c) {
-    double sl = 0, sp = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) sl += indirect.rgb(x, y)[c], sp += reference.rgb(x, y)[c];
-    channel_scale[c] = sp > 0 ? sl / sp : 0.0;
-  }
-  result["image"]["scale_rgb"] = {channel_scale[0], channel_scale[1], channel_scale[2]};
-  for (int r = 0; r < kRegions; ++r) result["regions"][kRegionNames[r]] = figures(per[r]);
-
+  const auto& L = cmp.L;
+  const auto& P = cmp.P;
+  const auto& region = cmp.region;
+  const double safe_k = cmp.scale > 0.0 ? cmp.scale : 1.0, mean_p = cmp.mean_p;
+  const Image &indirect = cmp.indirect, &reference = cmp.reference;
   const nlohmann::json& im = result["image"];
   fmt::print("{}: {}x{}, reference from {} run(s)\n", label, w, h, refs.size());
   fmt::print("  scale (mean real-time / mean path) {:.3f}  (R {:.3f} G {:.3f} B {:.3f})\n",
-             im["scale"].get<double>(), channel_scale[0], channel_scale[1], channel_scale[2]);
+             im["scale"].get<double>(), im["scale_rgb"][0].get<double>(),
+             im["scale_rgb"][1].get<double>(), im["scale_rgb"][2].get<double>());
   fmt::print("  at that scale: rel. L1 {:.3f}, rel. RMSE {:.3f}\n", im["rel_l1"].get<double>(),
              im["rel_rmse"].get<double>());
   if (noise)
@@ -205,10 +117,10 @@ int run_gi_compare(SuiteArgs args) {
         "  reference noise: rel. s.e. of the mean {:.4f}, rel. L1 {:.3f}, rel. RMSE {:.3f}\n",
         im["reference_rel_se_of_mean"].get<double>(), im["reference_rel_l1"].get<double>(),
         im["reference_rel_rmse"].get<double>());
-  for (int r = 0; r < kRegions; ++r) {
-    const nlohmann::json& g = result["regions"][kRegionNames[r]];
+  for (int r = 0; r < kGiRegions; ++r) {
+    const nlohmann::json& g = result["regions"][kGiRegionNames[r]];
     fmt::print(
-        "  {:8} {:5.1f} % of pixels, scale {:.3f}, rel. L1 {:.3f}{}\n", kRegionNames[r],
+        "  {:8} {:5.1f} % of pixels, scale {:.3f}, rel. L1 {:.3f}{}\n", kGiRegionNames[r],
         100.0 * g["pixels"].get<double>() / double(count), g["scale"].get<double>(),
         g["rel_l1"].get<double>(),
         noise ? fmt::format(" (reference noise {:.3f})", g["reference_rel_l1"].get<double>()) : "");
@@ -217,8 +129,8 @@ int run_gi_compare(SuiteArgs args) {
   std::string row =
       fmt::format("| {} | {:.2f} | {:.2f} | {:.2f} |", label, im["scale"].get<double>(),
                   im["rel_l1"].get<double>(), im["rel_rmse"].get<double>());
-  for (int r = 0; r < kRegions; ++r) {
-    const nlohmann::json& g = result["regions"][kRegionNames[r]];
+  for (int r = 0; r < kGiRegions; ++r) {
+    const nlohmann::json& g = result["regions"][kGiRegionNames[r]];
     row +=
         g["pixels"].get<double>() > 0
             ? fmt::format(" {:.2f} / {:.2f} |", g["scale"].get<double>(), g["rel_l1"].get<double>())
@@ -235,7 +147,6 @@ int run_gi_compare(SuiteArgs args) {
                              tone_mapped(reference, ToneMapper::kAces, indirect_exposure)};
     constexpr int kGap = 4;
     Image strip(6 * w + 5 * kGap, h, 3, 1.0f);
-    const double mean_p = sum_p / double(count);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         for (int p = 0; p < 4; ++p) strip.set_rgb(p * (w + kGap) + x, y, panels[p].rgb(x, y));
