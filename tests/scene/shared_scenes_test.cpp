@@ -250,7 +250,7 @@ TEST(SharedScenes, SponzaMissingBufferIsAnError) {
 
 TEST(SharedScenes, BuiltinNamesAndDataDir) {
   const auto names = builtin_scene_names();
-  EXPECT_EQ(names.size(), 4u);
+  EXPECT_EQ(names.size(), 5u);
   for (const std::string& name : names) {
     const std::string path = fmt::format("{}/scenes/{}/{}.illum.json", data_dir(), name, name);
     EXPECT_TRUE(std::ifstream(path).good()) << path;

@@ -171,11 +171,11 @@ class ModelBuilder {
           conductor = conductor || m.type == MaterialType::kConductor;
           base = m.specular;
           pbr.metallicFactor = 1.0;
-          pbr.roughnessFactor = 0.0;
+          pbr.roughnessFactor = std::sqrt(m.type == MaterialType::kConductor ? m.alpha : 0.0f);
           break;
         case MaterialType::kDielectric: {
           base = m.transmittance;
-          pbr.roughnessFactor = 0.0;
+          pbr.roughnessFactor = std::sqrt(m.alpha);  // glTF roughness² = GGX α
           tinygltf::Value::Object transmission{{"transmissionFactor", Value(1.0)}};
           g.extensions["KHR_materials_transmission"] = Value(transmission);
           tinygltf::Value::Object ior{{"ior", Value(static_cast<double>(m.ior))}};

@@ -5,6 +5,7 @@
 
 #include "illum/core/sampling.h"
 #include "illum/render/material_eval.h"
+#include "illum/render/microfacet.h"
 
 namespace illum {
 
@@ -84,6 +85,7 @@ Bsdf::Bsdf(const Material& m, const Color& albedo, const Frame& shading, const v
       k_(m.k),
       exponent_(std::max(m.exponent, 0.0f)),
       ior_(m.ior),
+      alpha_(std::max(m.alpha, kMinMicrofacetAlpha)),
       frame_(shading),
       ng_(ng),
       delta_(m.is_specular()) {
@@ -121,6 +123,12 @@ bool Bsdf::to_local(const vec3& wo, const vec3& wi, vec3* lo, vec3* li) const {
 }
 
 Color Bsdf::eval_local(const vec3& lo, const vec3& li) const {
+  if (type_ == MaterialType::kConductor) {
+    const Ggx ggx(alpha_);
+    const vec3 m = glm::normalize(lo + li);
+    return fresnel_conductor(glm::dot(lo, m), eta_, k_) *
+           (ggx.d(m) * ggx.g2(lo, li) / (4.0f * lo.z * li.z));
+  }
   Color f = albedo_ * kInvPi;
   if (type_ == MaterialType::kPhong) {
     const float cos_a = glm::dot(li, reflect_local(lo));
@@ -133,6 +141,11 @@ Color Bsdf::eval_local(const vec3& lo, const vec3& li) const {
 }
 
 float Bsdf::pdf_local(const vec3& lo, const vec3& li) const {
+  if (type_ == MaterialType::kConductor) {
+    const vec3 m = glm::normalize(lo + li);
+    const float o_m = glm::dot(lo, m);
+    return o_m > 0.0f ? Ggx(alpha_).d_visible(lo, m) / (4.0f * o_m) : 0.0f;
+  }
   float pdf = p_diffuse_ * li.z * kInvPi;
   if (p_diffuse_ < 1.0f) {
     if (type_ == MaterialType::kPhong) {
@@ -146,8 +159,56 @@ float Bsdf::pdf_local(const vec3& lo, const vec3& li) const {
   return pdf;
 }
 
-Color Bsdf::eval(const vec3& wo, const vec3& wi, TransportMode) const {
+namespace {
+// The generalized half vector of a dielectric pair (Walter et al. 2007, eq. 16), oriented to
+// z > 0, and the relative index η' = η_t/η_i across the side of li (1 for reflection).
+// False when no microfacet connects them: grazing, or m facing away from either direction.
+bool dielectric_half_vector(const vec3& lo, const vec3& li, float ior, vec3* m, float* etap) {
+  if (lo.z == 0.0f || li.z == 0.0f) return false;
+  *etap = lo.z * li.z > 0.0f ? 1.0f : (lo.z > 0.0f ? ior : 1.0f / ior);
+  vec3 h = li * *etap + lo;
+  const float len2 = glm::dot(h, h);
+  if (!(len2 > 0.0f)) return false;
+  h /= std::sqrt(len2);
+  if (h.z < 0.0f) h = -h;
+  if (glm::dot(h, li) * li.z <= 0.0f || glm::dot(h, lo) * lo.z <= 0.0f) return false;
+  *m = h;
+  return true;
+}
+}  // namespace
+
+Color Bsdf::eval_dielectric(const vec3& lo, const vec3& li, TransportMode mode) const {
+  vec3 m;
+  float etap;
+  if (!dielectric_half_vector(lo, li, ior_, &m, &etap)) return Color(0.0f);
+  const Ggx ggx(alpha_);
+  const float fr = fresnel_dielectric(glm::dot(lo, m), ior_);
+  const float dg = ggx.d(m) * ggx.g2(lo, li);
+  if (etap == 1.0f && lo.z * li.z > 0.0f) return Color(fr * dg / std::abs(4.0f * lo.z * li.z));
+  const float i_m = glm::dot(li, m), o_m = glm::dot(lo, m);
+  const float denom = (i_m + o_m / etap) * (i_m + o_m / etap);
+  float ft = (1.0f - fr) * dg * std::abs(i_m * o_m / (lo.z * li.z * denom));
+  if (mode == TransportMode::kRadiance) ft /= etap * etap;
+  return transmittance_ * ft;
+}
+
+float Bsdf::pdf_dielectric(const vec3& lo, const vec3& li) const {
+  vec3 m;
+  float etap;
+  if (!dielectric_half_vector(lo, li, ior_, &m, &etap)) return 0.0f;
+  const Ggx ggx(alpha_);
+  const float o_m = glm::dot(lo, m);
+  const float fr = fresnel_dielectric(o_m, ior_);
+  if (lo.z * li.z > 0.0f) return ggx.d_visible(lo, m) / (4.0f * std::abs(o_m)) * fr;
+  const float i_m = glm::dot(li, m);
+  const float denom = (i_m + o_m / etap) * (i_m + o_m / etap);
+  return ggx.d_visible(lo, m) * std::abs(i_m) / denom * (1.0f - fr);
+}
+
+Color Bsdf::eval(const vec3& wo, const vec3& wi, TransportMode mode) const {
   if (delta_) return Color(0.0f);
+  if (type_ == MaterialType::kDielectric)
+    return eval_dielectric(frame_.to_local(wo), frame_.to_local(wi), mode);
   vec3 lo, li;
   if (!to_local(wo, wi, &lo, &li)) return Color(0.0f);
   return eval_local(lo, li);
@@ -155,6 +216,8 @@ Color Bsdf::eval(const vec3& wo, const vec3& wi, TransportMode) const {
 
 float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
   if (delta_) return 0.0f;
+  if (type_ == MaterialType::kDielectric)
+    return pdf_dielectric(frame_.to_local(wo), frame_.to_local(wi));
   vec3 lo, li;
   if (!to_local(wo, wi, &lo, &li)) return 0.0f;
   return pdf_local(lo, li);
@@ -163,6 +226,35 @@ float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
 std::optional<BsdfSample> Bsdf::sample(const vec3& wo, float u_lobe, const vec2& u,
                                        TransportMode mode) const {
   BsdfSample s;
+  if (type_ == MaterialType::kDielectric && !delta_) {
+    const vec3 lo = frame_.to_local(wo);
+    if (lo.z == 0.0f) return std::nullopt;
+    const vec3 m = Ggx(alpha_).sample_visible(lo, u);
+    const float o_m = glm::dot(lo, m);
+    if (o_m * lo.z <= 0.0f) return std::nullopt;
+    vec3 li;
+    if (u_lobe < fresnel_dielectric(o_m, ior_)) {
+      li = 2.0f * o_m * m - lo;
+      if (li.z * lo.z <= 0.0f) return std::nullopt;
+    } else {
+      // Refraction through the microfacet m (Snell about m instead of the macro normal).
+      const float eta = o_m > 0.0f ? ior_ : 1.0f / ior_;
+      const vec3 n = o_m > 0.0f ? m : -m;
+      const float cos_i = std::abs(o_m);
+      const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
+      if (sin2_t >= 1.0f) return std::nullopt;
+      li = -lo / eta + (cos_i / eta - safe_sqrt(1.0f - sin2_t)) * n;
+      if (li.z * lo.z >= 0.0f) return std::nullopt;
+      s.transmission = true;
+    }
+    li = glm::normalize(li);
+    s.pdf = pdf_dielectric(lo, li);
+    if (!(s.pdf > 0.0f)) return std::nullopt;
+    s.f = eval_dielectric(lo, li, mode);
+    s.wi = glm::normalize(frame_.to_world(li));
+    s.weight = s.f * (std::abs(li.z) / s.pdf);
+    return s;
+  }
   if (type_ == MaterialType::kDielectric) {
     const vec3 lo = frame_.to_local(wo);
     if (lo.z == 0.0f) return std::nullopt;
@@ -200,7 +292,7 @@ std::optional<BsdfSample> Bsdf::sample(const vec3& wo, float u_lobe, const vec2&
     return glm::normalize(frame_.to_world(li));
   };
 
-  if (type_ == MaterialType::kMirror || type_ == MaterialType::kConductor) {
+  if (delta_) {  // mirror or smooth conductor
     s.delta = true;
     s.pdf = 1.0f;
     s.wi = to_world(reflect_local(lo));
@@ -210,7 +302,10 @@ std::optional<BsdfSample> Bsdf::sample(const vec3& wo, float u_lobe, const vec2&
   }
 
   vec3 li;
-  if (u_lobe < p_diffuse_) {
+  if (type_ == MaterialType::kConductor) {
+    const vec3 m = Ggx(alpha_).sample_visible(lo, u);
+    li = 2.0f * glm::dot(lo, m) * m - lo;
+  } else if (u_lobe < p_diffuse_) {
     li = sample_cosine_hemisphere(u);
   } else if (type_ == MaterialType::kPhong) {
     li = Frame::from_normal(reflect_local(lo)).to_world(sample_lobe(exponent_, u));

@@ -5,8 +5,17 @@
 // Opaque materials are two-sided: they reflect on whichever side wo lies (geometric normal),
 // and never let light through (wi on the other geometric side gives zero).
 //
-// Delta lobes (mirror, conductor, dielectric) have eval() = pdf() = 0; sample() returns
-// `delta = true`, pdf = the probability of the lobe it picked, and the weight.
+// Delta lobes (mirror; conductor and dielectric with α < kMinMicrofacetAlpha) have eval() =
+// pdf() = 0; sample() returns `delta = true`, pdf = the probability of the lobe it picked,
+// and the weight.
+//
+// Rough conductor and dielectric (GGX α = Material::alpha, microfacet.h): conductor
+// f = F(o·m)·D(m)·G2(o,i) / (4 cos θo cos θi) with m = normalize(o + i); dielectric after
+// Walter et al. 2007 — reflection F·D·G2 / (4 |cos θo cos θi|), transmission
+// (1 − F)·D·G2·|i·m|·|o·m| / (|cos θo cos θi|·(i·m + o·m/η')²) with m = normalize(η'·i + o)
+// and η' the relative index across the side i lies on, divided by η'² in radiance mode (so
+// f(o,i)/η_i² = f(i,o)/η_o²). Both sample visible normals; the dielectric then picks
+// reflection with probability F(o·m).
 //
 // Phong follows scene.h exactly; Blinn uses the exact energy normalization instead of the
 // approximate (n+8)/(8π) (see blinn_norm in bsdf.cpp: the approximation creates energy).
@@ -72,10 +81,13 @@ class Bsdf {
   bool to_local(const vec3& wo, const vec3& wi, vec3* lo, vec3* li) const;
   Color eval_local(const vec3& lo, const vec3& li) const;
   float pdf_local(const vec3& lo, const vec3& li) const;
+  // Rough dielectric, both sides, in the shading frame.
+  Color eval_dielectric(const vec3& lo, const vec3& li, TransportMode mode) const;
+  float pdf_dielectric(const vec3& lo, const vec3& li) const;
 
   MaterialType type_;
   Color albedo_, specular_, transmittance_, eta_, k_;
-  float exponent_, ior_;
+  float exponent_, ior_, alpha_;
   Frame frame_;
   vec3 ng_;
   bool delta_;

@@ -223,6 +223,11 @@ class GltfReader {
       } else if (metallic >= 0.5f) {
         m.type = MaterialType::kConductor;
         set_conductor_from_reflectance(m, base);
+      }
+      // glTF's roughness is perceptual; the GGX α of its BRDF is its square (glTF 2.0 spec,
+      // appendix B). Only the factor: the offline microfacet lobes take one α per material.
+      if (m.type == MaterialType::kDielectric || m.type == MaterialType::kConductor) {
+        m.alpha = m.roughness * m.roughness;
       } else if (m.roughness < 0.5f) {
         // A glossy dielectric: Blinn lobe with the glTF's 4 % specular reflectance and the
         // exponent matching Beckmann roughness α = roughness² (Walter et al. 2007:

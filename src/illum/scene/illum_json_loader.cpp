@@ -13,6 +13,7 @@
 #include "illum/scene/load.h"
 #include "illum/scene/loaders.h"
 #include "illum/scene/mesh_processing.h"
+#include "illum/scene/metals.h"
 #include "illum/scene/scene_validation.h"
 
 namespace illum::detail {
@@ -81,8 +82,27 @@ void override_material(Material& m, const Params& p, TextureCache& textures,
   m.roughness = p.get_float_in("roughness", m.roughness, 0.0f, 1.0f);
   m.ior = p.get_float_in("ior", m.ior, 1.0f, kMaxIor);
   m.transmittance = non_negative_color(p, "transmittance", m.transmittance, 1.0f);
+  if (p.has("metal")) {
+    // A named metal is a conductor; another type beside it is a contradiction, not a choice.
+    if (m.type != MaterialType::kConductor && p.has("type"))
+      throw Error(fmt::format("{} = '{}' is a conductor, but {} is '{}'", p.where("metal"),
+                              p.get<std::string>("metal"), p.where("type"), to_string(m.type)));
+    const std::string name = p.get<std::string>("metal");
+    const std::optional<ComplexIndex> metal = named_metal(name);
+    if (!metal)
+      throw Error(
+          fmt::format("{} = '{}' is not a known metal ({})", p.where("metal"), name, kMetalNames));
+    m.type = MaterialType::kConductor;
+    m.eta = metal->eta;
+    m.k = metal->k;
+  }
   m.eta = non_negative_color(p, "eta", m.eta);
   m.k = non_negative_color(p, "k", m.k);
+  if (p.has("alpha")) {
+    m.alpha = p.get_float_in("alpha", m.alpha, 0.0f, 1.0f);
+    // The real-time renderers read glTF's perceptual roughness, whose square is α.
+    if (!p.has("roughness")) m.roughness = std::sqrt(m.alpha);
+  }
   m.emission = non_negative_color(p, "emission", m.emission);
   m.opacity = p.get_float_in("opacity", m.opacity, 0.0f, 1.0f);
   if (p.has("albedo_texture"))

@@ -105,7 +105,7 @@ std::string shared_scenes_dir() {
 }
 
 std::vector<std::string> builtin_scene_names() {
-  return {"caustics", "cornell", "cornell-spot", "sibenik"};
+  return {"caustics", "cornell", "cornell-spot", "envroom", "sibenik"};
 }
 
 Scene load_scene(const std::string& path_or_name, const LoadOptions& options) {

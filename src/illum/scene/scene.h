@@ -28,9 +28,13 @@ enum class MaterialType {
   kPhong,  // energy-normalized: albedo/π + specular·(n+2)/(2π)·cos^n(α) (α to the mirror direction)
   kBlinn,       // energy-normalized: albedo/π + specular·(n+8)/(8π)·cos^n(θh)
   kMirror,      // perfect specular reflection scaled by `specular`
-  kDielectric,  // smooth glass: Fresnel reflection + Snell refraction, index `ior`
-  kConductor,   // smooth metal: Fresnel with complex index eta + i·k
+  kDielectric,  // glass, index `ior`: smooth (Fresnel + Snell) or, with `alpha`, GGX (Walter 2007)
+  kConductor,   // metal, complex index eta + i·k: smooth or, with `alpha`, GGX microfacets
 };
+
+// Below this GGX α a conductor or dielectric is smooth (delta lobes): the microfacet
+// lobe would be narrower than float directions resolve and its pdf would overflow.
+inline constexpr float kMinMicrofacetAlpha = 1e-3f;
 
 const char* to_string(MaterialType type);
 
@@ -52,11 +56,14 @@ struct Material {
   int normal_texture = kNoTexture;     // tangent-space normal map (linear, [0,1] → [-1,1])
   float normal_scale = 1.0f;
   float opacity = 1.0f;  // 1 = opaque (kept for real-time; offline treats as opaque)
+  // GGX α of conductors and dielectrics (offline); below kMinMicrofacetAlpha they are smooth.
+  float alpha = 0.0f;
 
   bool is_emissive() const { return !is_black(emission); }
   bool is_specular() const {  // delta BSDF: no next-event estimation possible
-    return type == MaterialType::kMirror || type == MaterialType::kDielectric ||
-           type == MaterialType::kConductor;
+    return type == MaterialType::kMirror ||
+           ((type == MaterialType::kDielectric || type == MaterialType::kConductor) &&
+            alpha < kMinMicrofacetAlpha);
   }
 };
 

@@ -86,6 +86,7 @@ void validate_material(const Material& m, const std::string& where, size_t textu
   check_color(m.k, where + " k");
   check_in_range(m.exponent, 0.0, kMaxExponent, where + " exponent");
   check_in_range(m.roughness, 0.0, 1.0, where + " roughness");
+  check_in_range(m.alpha, 0.0, 1.0, where + " alpha");
   check_in_range(m.ior, 1.0, kMaxIor, where + " ior");
   check_in_range(m.opacity, 0.0, 1.0, where + " opacity");
   if (!std::isfinite(m.normal_scale))

@@ -38,7 +38,7 @@ void check_finite(const vec3& v, const std::string& where);
 void check_transform(const mat4& m, const std::string& where);
 
 // Reflectances (albedo, specular, transmittance) in [0, 1]; emission, eta, k ≥ 0; exponent in
-// [0, kMaxExponent]; roughness and opacity in [0, 1]; ior in [1, kMaxIor]; normal_scale
+// [0, kMaxExponent]; roughness, alpha and opacity in [0, 1]; ior in [1, kMaxIor]; normal_scale
 // finite; texture ids kNoTexture or < texture_count.
 void validate_material(const Material& m, const std::string& where, size_t texture_count);
 // Finite position and direction (non-zero for spot and directional lights); intensity and
