@@ -13,8 +13,8 @@
 // f = F(o·m)·D(m)·G2(o,i) / (4 cos θo cos θi) with m = normalize(o + i); dielectric after
 // Walter et al. 2007 — reflection F·D·G2 / (4 |cos θo cos θi|), transmission
 // (1 − F)·D·G2·|i·m|·|o·m| / (|cos θo cos θi|·(i·m + o·m/η')²) with m = normalize(η'·i + o)
-// and η' the relative index across the side i lies on, divided by η'² in radiance mode (so
-// f(o,i)/η_i² = f(i,o)/η_o²). Both sample visible normals; the dielectric then picks
+// and η' = η_i/η_o (the indices on i's and o's sides), divided by η'² in radiance mode (so
+// f(o,i)/η_o² = f(i,o)/η_i²). Both sample visible normals; the dielectric then picks
 // reflection with probability F(o·m).
 //
 // Phong follows scene.h exactly; Blinn uses the exact energy normalization instead of the
