@@ -4,7 +4,8 @@
 // point light, a clamped-cosine lobe of its flux Φ along its normal, put in the cell holding
 // position + ½·s·normal: c0 += Φ/(2√π), c += Φ·n/√(3π). Its surface also goes into the
 // geometry volume (the cell centred on the light cells' corner nearest to it) as a blocking
-// potential a = A/s² along the normal: b0 += a·√π/2, b += a·√(π/3)·n.
+// potential a = A/s² along the normal: b0 += a·√π/2, b += a·√(π/3)·n. Both go into every
+// cascade holding them, with that cascade's cell size s.
 //
 // Float atomics are not core in Vulkan 1.0, 32-bit atomicCompSwap is: each add is a
 // compare-and-swap loop on the float's bits — exact float sums on lavapipe and NVIDIA alike,
@@ -58,19 +59,6 @@ void main() {
   nrm /= len;
   vec3 flux = texelFetch(surfel_flux, t, 0).rgb;
   int n = lpv.info.x;
-  float s = lpv.lo.w;
-
-  ivec3 cell = ivec3(floor((pos.xyz + 0.5 * s * nrm - lpv.lo.xyz) / s));
-  if (all(greaterThanEqual(cell, ivec3(0))) && all(lessThan(cell, ivec3(n)))) {
-    for (int c = 0; c < 3; ++c) {
-      float phi = flux[c];
-      add_light(lpv_index(cell, c, 0), phi * kLpvY0);
-      vec3 v = phi * nrm * (1.0 / sqrt(3.0 * kLpvPi));
-      add_light(lpv_index(cell, c, 1), v.x);
-      add_light(lpv_index(cell, c, 2), v.y);
-      add_light(lpv_index(cell, c, 3), v.z);
-    }
-  }
 
   // The surfel's world area: the texel's footprint on the light's plane (orthographic) or its
   // solid angle times the squared distance (perspective, cube face), over the cosine.
@@ -85,12 +73,28 @@ void main() {
     area = rsm_texel_solid_angle(t.xy, header.counts.y, view.direction.w) * d2 /
            max(cosine, kMinCos);
   }
-  ivec3 g = ivec3(floor((pos.xyz - lpv.lo.xyz) / s + 0.5));
-  if (any(lessThan(g, ivec3(0))) || any(greaterThan(g, ivec3(n)))) return;
-  float a = area / (s * s);
-  add_geometry(lpv_geometry_index(g, 0), a * sqrt(kLpvPi) * 0.5);
-  vec3 b = a * sqrt(kLpvPi / 3.0) * nrm;
-  add_geometry(lpv_geometry_index(g, 1), b.x);
-  add_geometry(lpv_geometry_index(g, 2), b.y);
-  add_geometry(lpv_geometry_index(g, 3), b.z);
+
+  for (int q = 0; q < lpv.cascades.x; ++q) {
+    vec3 lo = lpv.lo[q].xyz;
+    float s = lpv.lo[q].w;
+    ivec3 cell = ivec3(floor((pos.xyz + 0.5 * s * nrm - lo) / s));
+    if (all(greaterThanEqual(cell, ivec3(0))) && all(lessThan(cell, ivec3(n)))) {
+      for (int c = 0; c < 3; ++c) {
+        float phi = flux[c];
+        add_light(lpv_index(q, cell, c, 0), phi * kLpvY0);
+        vec3 v = phi * nrm * (1.0 / sqrt(3.0 * kLpvPi));
+        add_light(lpv_index(q, cell, c, 1), v.x);
+        add_light(lpv_index(q, cell, c, 2), v.y);
+        add_light(lpv_index(q, cell, c, 3), v.z);
+      }
+    }
+    ivec3 g = ivec3(floor((pos.xyz - lo) / s + 0.5));
+    if (any(lessThan(g, ivec3(0))) || any(greaterThan(g, ivec3(n)))) continue;
+    float a = area / (s * s);
+    add_geometry(lpv_geometry_index(q, g, 0), a * sqrt(kLpvPi) * 0.5);
+    vec3 b = a * sqrt(kLpvPi / 3.0) * nrm;
+    add_geometry(lpv_geometry_index(q, g, 1), b.x);
+    add_geometry(lpv_geometry_index(q, g, 2), b.y);
+    add_geometry(lpv_geometry_index(q, g, 3), b.z);
+  }
 }

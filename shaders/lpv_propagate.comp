@@ -12,7 +12,8 @@
 // the face's normal carrying that flux (c0 += Φ_f·Y0, c += Φ_f·n_f/√(3π)), times the
 // transmittance at the shared face, 1 − clamp(B(−d), 0, 1): the geometry volume's blocking
 // potential B, the mean of its four cells around the face's centre, seen by light moving
-// along d. The new light is also added to the accumulation.
+// along d. The new light is also added to the accumulation. Every cascade in one dispatch:
+// the z of the invocation runs over the cascades' cells one after the other.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #include "lpv_common.glsl"
 
@@ -52,8 +53,7 @@ float positive_flux(float c0, vec3 c) {
   return sum;
 }
 
-float blocking(ivec3 x, int a) {
-  int n = lpv.info.x;
+float blocking(int q, ivec3 x, int a) {
   ivec3 d = kAxes[a];
   int axis = a / 2;
   // The shared face lies on the corner plane x[axis] (d > 0) or x[axis] + 1 (d < 0); its
@@ -66,7 +66,7 @@ float blocking(ivec3 x, int a) {
     ivec3 g = base;
     g[u] += k & 1;
     g[v] += k >> 1;
-    for (int j = 0; j < 4; ++j) b[j] += geometry[lpv_geometry_index(g, j)];
+    for (int j = 0; j < 4; ++j) b[j] += geometry[lpv_geometry_index(q, g, j)];
   }
   b *= 0.25;
   return b.x * kLpvY0 - kLpvY1 * dot(b.yzw, vec3(d));
@@ -75,19 +75,21 @@ float blocking(ivec3 x, int a) {
 void main() {
   int n = lpv.info.x;
   ivec3 x = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(x, ivec3(n)))) return;
+  int q = x.z / n;
+  x.z -= q * n;
+  if (any(greaterThanEqual(x, ivec3(n))) || q >= lpv.cascades.x) return;
   vec4 gathered[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
   for (int a = 0; a < 6; ++a) {
     ivec3 from = x - kAxes[a];
     if (any(lessThan(from, ivec3(0))) || any(greaterThanEqual(from, ivec3(n)))) continue;
-    float transmit = 1.0 - clamp(blocking(x, a), 0.0, 1.0);
+    float transmit = 1.0 - clamp(blocking(q, x, a), 0.0, 1.0);
     if (transmit <= 0.0) continue;
     vec3 d = vec3(kAxes[a]);
     for (int c = 0; c < 3; ++c) {
-      float c0 = src[lpv_index(from, c, 0)];
+      float c0 = src[lpv_index(q, from, c, 0)];
       if (c0 <= 0.0) continue;
-      vec3 cv = vec3(src[lpv_index(from, c, 1)], src[lpv_index(from, c, 2)],
-                     src[lpv_index(from, c, 3)]);
+      vec3 cv = vec3(src[lpv_index(q, from, c, 1)], src[lpv_index(q, from, c, 2)],
+                     src[lpv_index(q, from, c, 3)]);
       float total = 2.0 * sqrt(kLpvPi) * c0;
       float positive = positive_flux(c0, cv);
       if (positive <= 0.0) continue;
@@ -104,7 +106,7 @@ void main() {
   }
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < 4; ++k) {
-      int i = lpv_index(x, c, k);
+      int i = lpv_index(q, x, c, k);
       dst[i] = gathered[c][k];
       acc[i] += gathered[c][k];
     }

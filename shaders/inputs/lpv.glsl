@@ -1,33 +1,60 @@
 // Lighting input `lpv` (techniques/lpv.cpp, docs/realtime-lpv.md): the light propagation
 // volume's accumulated light, per cell and colour channel the L1 SH of its radiant intensity
-// (c0, c) (lpv_common.glsl), in an atlas of three parts along x (R, G, B) sampled trilinearly
-// with the coordinate clamped to each part's outer cell centres. Radiance is the intensity
-// over the cell's cross-section s², and the irradiance of a surface with normal n gathers the
-// light moving along −n: E(n) = (π·Y0·c0 − (2π/3)·√(3/4π)·c·n)/s² = (√π/2·c0 − √(π/3)·c·n)/s².
-// Must match LpvUniforms' input part in techniques/lpv.cpp.
+// (c0, c) (lpv_common.glsl), in an atlas of three parts along x (R, G, B) and the cascades one
+// after the other along z, sampled trilinearly with the coordinate clamped to each part's
+// outer cell centres. Radiance is the intensity over the cell's cross-section s², and the
+// irradiance of a surface with normal n gathers the light moving along −n:
+// E(n) = (π·Y0·c0 − (2π/3)·√(3/4π)·c·n)/s² = (√π/2·c0 − √(π/3)·c·n)/s². A point takes the
+// finest cascade holding it, whose cells near its border hold its light blended into the next
+// coarser cascade's (lpv_resolve.comp), so the border leaves no seam.
+// Must match LpvInputUniforms in techniques/lpv.cpp.
 #ifndef ILLUM_INPUT_LPV_GLSL
 #define ILLUM_INPUT_LPV_GLSL
 
 layout(std140, set = kInputsSet, binding = kLpvInputBase) uniform LpvInput {
-  vec4 lo;      // xyz: the volume's min corner; w: the cell size s
-  ivec4 info;   // x: cells per axis
+  vec4 lo[4];   // per cascade: xyz its min corner; w its cell size s (past the last: the last)
+  vec4 slot;    // per cascade: the z of its part of the atlas, in texture coordinates
+  ivec4 info;   // x: cells per axis; y: cascades
   vec4 params;  // x: amplification
 } lpv_input;
 layout(set = kInputsSet, binding = kLpvInputBase + 1) uniform sampler3D lpv_accum;
 
-vec4 lpv_sample(int c, vec3 p) {
+// Whether p lies inside the outermost cell centres of the cascade whose box is `box`.
+bool lpv_holds(vec4 box, vec3 p) {
+  vec3 t = (p - box.xyz) / box.w;
   float n = float(lpv_input.info.x);
-  vec3 t = clamp((p - lpv_input.lo.xyz) / lpv_input.lo.w, vec3(0.5), vec3(n - 0.5));
-  return textureLod(lpv_accum, vec3((t.x + float(c) * n) / (3.0 * n), t.y / n, t.z / n), 0.0);
+  return min(t.x, min(t.y, t.z)) > 0.5 && max(t.x, max(t.y, t.z)) < n - 0.5;
 }
 
 vec3 lpv_irradiance(vec3 p, vec3 n) {
-  // The three channels written out: a loop storing e[c] crashed lavapipe's (Mesa 22.3)
-  // compiler now and then (heap corruption while building the visibility resolve).
-  vec4 r = lpv_sample(0, p), g = lpv_sample(1, p), b = lpv_sample(2, p);
+  // The finest cascade holding p (they nest), written out with constant indices and no loop:
+  // a loop, an array indexed by a variable or a second cascade's fetches here made lavapipe's
+  // (Mesa 22.3) compiler corrupt its heap now and then while building the visibility resolve.
+  // The blend into the coarser cascade is in the atlas already (lpv_resolve.comp).
+  vec4 box = lpv_input.lo[3];
+  float slot = lpv_input.slot.w;
+  if (lpv_holds(lpv_input.lo[2], p)) {
+    box = lpv_input.lo[2];
+    slot = lpv_input.slot.z;
+  }
+  if (lpv_holds(lpv_input.lo[1], p)) {
+    box = lpv_input.lo[1];
+    slot = lpv_input.slot.y;
+  }
+  if (lpv_holds(lpv_input.lo[0], p)) {
+    box = lpv_input.lo[0];
+    slot = lpv_input.slot.x;
+  }
+  float cells = float(lpv_input.info.x);
+  vec3 t = clamp((p - box.xyz) / box.w, vec3(0.5), vec3(cells - 0.5)) / cells;
+  t.z = slot + t.z / float(lpv_input.info.y);
+  // The three channels written out: a loop storing e[c] crashed that compiler too.
+  vec4 r = textureLod(lpv_accum, vec3(t.x / 3.0, t.yz), 0.0);
+  vec4 g = textureLod(lpv_accum, vec3((t.x + 1.0) / 3.0, t.yz), 0.0);
+  vec4 b = textureLod(lpv_accum, vec3((t.x + 2.0) / 3.0, t.yz), 0.0);
   vec3 e = 0.886226925452758 * vec3(r.x, g.x, b.x) -
            1.0233267079464885 * vec3(dot(r.yzw, n), dot(g.yzw, n), dot(b.yzw, n));
-  return max(e, vec3(0.0)) / (lpv_input.lo.w * lpv_input.lo.w);
+  return max(e, vec3(0.0)) / (box.w * box.w);
 }
 
 void input_lpv(Surface s, int draw, vec2 frag, inout LightingTerms t) {

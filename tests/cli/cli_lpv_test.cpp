@@ -1,5 +1,6 @@
 // `--enable lpv` at the CLI: the frame is written and lists the lpv pass; a source that
-// nothing declares is one line with exit code 2 and no output file.
+// nothing declares, a grid size or a cascade count out of range is one line with exit code 2
+// and no output file.
 #include <string>
 
 #include "cli_fixture.h"
@@ -22,7 +23,8 @@ class CliLpv : public CliTest {
 // `illum frame` exists only where the GPU layers are built (not in the asan tree).
 #ifdef ILLUM_HAVE_GPU
 TEST_F(CliLpv, FrameRunsTheVolume) {
-  std::string command = "frame cornell --width 32 --height 32 --enable lpv -p lpv.grid=16 -o ";
+  std::string command =
+      "frame cornell --width 32 --height 32 --enable lpv -p lpv.grid=16 -p lpv.cascades=2 -o ";
   command += (dir_ / "lpv.png").string();
   const Result r = illum(command);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -34,6 +36,9 @@ TEST_F(CliLpv, AnUndeclaredSourceIsOneLineExitTwo) {
   std::string command = "frame cornell --width 16 --height 16 --enable lpv -p lpv.source=nothing";
   const Result grid = illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.grid=24");
   expect_bad_input(grid, "-p lpv.grid=24: 16, 32 or 64");
+  const Result cascades =
+      illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.cascades=5");
+  expect_bad_input(cascades, "parameter 'lpv.cascades' = 5 is outside [1, 4]");
   command += " -o " + (dir_ / "f.png").string();
   const Result r = illum(command);
   expect_bad_input(r, "-p lpv.source=nothing: nothing in this frame declares 'nothing.position'");

@@ -3,10 +3,13 @@
 // test source filled here, one surfel per layer, so the tests need no RSM: a propagation step
 // conserves the sender's flux; light spreads symmetrically; a closed shell of the geometry
 // volume blocks it, and a partial one passes what its blocking potential leaves; the indirect
-// term is the looked-up irradiance × albedo/π × amplification.
+// term is the looked-up irradiance × albedo/π × amplification, blended across the cascades'
+// borders without a seam; the cascades do not crawl as the camera moves; two spot lights'
+// reflective shadow maps both inject.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -21,6 +24,7 @@
 #include "illum/realtime/rsm_views.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/lpv_cascades.h"
 #include "illum/realtime/techniques/techniques.h"
 #include "test_scene.h"
 
@@ -31,9 +35,10 @@ using test::context;
 
 constexpr float kPi = 3.14159265358979f;
 constexpr int kGrid = 16;
-// The box is 16 unit cells around the camera, snapped: cell (i, j, k) spans
+constexpr int kCascades = 3;  // lpv.cascades' default
+// The finest cascade is 16 unit cells around the camera, snapped: cell (i, j, k) spans
 // [i − 8, i − 7] × … in world units. Cell (8, 8, 8) is [0, 1]³.
-constexpr float kCellLo = -8.0f;
+const vec3 kCamera(0.2f, 0.3f, 0.1f);
 
 struct Surfel {
   vec3 position{0.0f};
@@ -161,27 +166,41 @@ Scene far_quad() {
   point.intensity = Color(1.0f);
   s.lights = {point};
   Camera cam;
-  cam.position = vec3(0.2f, 0.3f, 0.1f);  // snaps the box's corner to (−8, −8, −8)
-  cam.look_at = vec3(0.2f, 0.3f, -1.0f);
+  cam.position = kCamera;  // snaps the finest box's corner to (−8, −8, −8)
+  cam.look_at = kCamera + vec3(0.0f, 0.0f, -1.1f);
   cam.fov_y = radians(50.0f);
   s.camera = cam;
   return s;
 }
 
-// The accumulated light, as read back: per cell and channel (c0, c.x, c.y, c.z).
+// The accumulated light, as read back: per cascade, cell and channel (c0, c.x, c.y, c.z).
 struct Volume {
-  std::vector<Image> slices;
-  glm::vec4 at(int c, glm::ivec3 x) const {
-    const float* t = slices[size_t(x.z)].pixel(c * kGrid + x.x, x.y);
+  std::vector<Image> slices;  // cascade q's slice z is slices[q·n + z]
+  std::vector<LpvCascade> boxes;
+  glm::vec4 at(int c, glm::ivec3 x, int q = 0) const {
+    const float* t = slices[size_t(q * kGrid + x.z)].pixel(c * kGrid + x.x, x.y);
     return {t[0], t[1], t[2], t[3]};
   }
   // The flux of channel c's lobe in cell x: ∫ I dω = 2√π·c0.
-  float flux(int c, glm::ivec3 x) const { return 2.0f * std::sqrt(kPi) * at(c, x).x; }
+  float flux(int c, glm::ivec3 x, int q = 0) const { return 2.0f * std::sqrt(kPi) * at(c, x, q).x; }
 };
 
-Volume propagate(const std::vector<Surfel>& surfels, int iterations) {
+Volume read_volume(Renderer& r, const Camera& camera, int cascades) {
+  Volume v;
+  for (int z = 0; z < kGrid * cascades; ++z)
+    v.slices.push_back(r.read_resource("lpv.accum", uint32_t(z)));
+  v.boxes = lpv_cascades(camera.position, kGrid, cascades, 1.0f, Bounds3{});
+  return v;
+}
+
+// One cascade unless told: the light's flux is compared cell by cell, and a finer cascade's
+// outer cells hold a blend with the next one.
+Volume propagate(const std::vector<Surfel>& surfels, int iterations, int cascades = 1,
+                 const vec3& camera = kCamera) {
   g_surfels = surfels;
-  const Scene scene = far_quad();
+  Scene scene = far_quad();
+  scene.camera->position = camera;
+  scene.camera->look_at = camera + vec3(0.0f, 0.0f, -1.0f);
   RenderSettings o;
   o.width = o.height = 16;
   o.shadows = "surfels";
@@ -190,11 +209,10 @@ Volume propagate(const std::vector<Surfel>& surfels, int iterations) {
   o.set("lpv.grid", 16);
   o.set("lpv.cell", 1.0f);
   o.set("lpv.iterations", iterations);
+  o.set("lpv.cascades", cascades);
   Renderer r(context(), scene, o);
   r.render(*scene.camera);
-  Volume v;
-  for (int z = 0; z < kGrid; ++z) v.slices.push_back(r.read_resource("lpv.accum", uint32_t(z)));
-  return v;
+  return read_volume(r, *scene.camera, cascades);
 }
 
 template <typename F>
@@ -355,18 +373,21 @@ TEST_F(LpvTest, TheGeometryVolumeBlocks) {
   }
 }
 
-// The lookup as the input module does it, repeated on the CPU from the read-back volume:
-// trilinear weights over the 8 cells around p (coordinates clamped to the outer centres),
-// E(n) = max(0, √π/2·c0 − √(π/3)·c·n)/s² per channel (s = 1 here). `spread` gets each
-// channel's largest minus smallest corner value, the scale of the filter's weight rounding.
-Color lookup(const Volume& v, vec3 p, vec3 nrm, Color* spread) {
+// The lookup as the input module does it, repeated on the CPU from the read-back volume: the
+// finest cascade holding p (inside its outermost cell centres), trilinear weights over the 8
+// cells around p (coordinates clamped to the outer centres), E(n) = max(0, √π/2·c0 −
+// √(π/3)·c·n)/s² per channel. `spread` gets each channel's largest minus smallest corner
+// value, the scale of the filter's weight rounding.
+Color cascade_irradiance(const Volume& v, int q, vec3 p, vec3 nrm, Color* spread) {
   const float n = float(kGrid);
-  const vec3 t = glm::clamp(p - vec3(kCellLo), vec3(0.5f), vec3(n - 0.5f)) - 0.5f;
+  const LpvCascade& box = v.boxes[size_t(q)];
+  const vec3 t = glm::clamp((p - box.lo) / box.cell, vec3(0.5f), vec3(n - 0.5f)) - 0.5f;
   const glm::ivec3 i0 = glm::min(glm::ivec3(glm::floor(t)), glm::ivec3(kGrid - 2));
   const vec3 f = t - vec3(i0);
   Color e(0.0f), lo(1e30f), hi(-1e30f);
+  const float area = box.cell * box.cell;
   const auto irradiance = [&](const glm::vec4& c) {
-    return 0.886226925f * c.x - 1.0233267f * glm::dot(vec3(c.y, c.z, c.w), nrm);
+    return (0.886226925f * c.x - 1.0233267f * glm::dot(vec3(c.y, c.z, c.w), nrm)) / area;
   };
   for (int c = 0; c < 3; ++c) {
     glm::vec4 sum(0.0f);
@@ -374,9 +395,9 @@ Color lookup(const Volume& v, vec3 p, vec3 nrm, Color* spread) {
       const glm::ivec3 at = i0 + glm::ivec3(k & 1, (k >> 1) & 1, k >> 2);
       const float w =
           (k & 1 ? f.x : 1.0f - f.x) * (k & 2 ? f.y : 1.0f - f.y) * (k & 4 ? f.z : 1.0f - f.z);
-      sum += w * v.at(c, at);
-      lo[c] = std::min(lo[c], irradiance(v.at(c, at)));
-      hi[c] = std::max(hi[c], irradiance(v.at(c, at)));
+      sum += w * v.at(c, at, q);
+      lo[c] = std::min(lo[c], irradiance(v.at(c, at, q)));
+      hi[c] = std::max(hi[c], irradiance(v.at(c, at, q)));
     }
     e[c] = std::max(irradiance(sum), 0.0f);
   }
@@ -384,16 +405,37 @@ Color lookup(const Volume& v, vec3 p, vec3 nrm, Color* spread) {
   return e;
 }
 
-// 4. The lookup: each pixel of the quad (z = −6, facing +z) with lpv on is the frame without
-// it (ambient 0) plus albedo·E(n)/π × amplification, E looked up on the CPU from the
-// read-back volume; an isotropic source two cells in front of it, four steps. Tolerance per
-// channel: fp16 rounding of both frames, 2⁻¹⁰·(|with| + |without|); the filter's weight rounding,
-// 3·2^−subTexelPrecisionBits of the corners' spread; 1e-4 of the term for the pixel's point found
-// by a ray rather than rasterized.
-TEST_F(LpvTest, TheIndirectTermIsTheVolumesIrradiance) {
+int finest_holding(const Volume& v, vec3 p) {
+  int q = static_cast<int>(v.boxes.size()) - 1;
+  for (int k = q - 1; k >= 0; --k)
+    if (lpv_inside_cells(v.boxes[size_t(k)], kGrid, p) > 0.0f) q = k;
+  return q;
+}
+
+Color lookup(const Volume& v, vec3 p, vec3 nrm, Color* spread) {
+  return cascade_irradiance(v, finest_holding(v, p), p, nrm, spread);
+}
+
+// The frame with lpv on and off (ambient 0) for an isotropic source two cells in front of
+// the quad (z = −6, facing +z), four steps, seen from `camera`: each pixel of the quad with
+// lpv on is the frame without it plus albedo·E(n)/π × amplification, E looked up on the CPU
+// from the read-back volume. Tolerance per channel: fp16 rounding of both frames,
+// 2⁻¹⁰·(|with| + |without|); the filter's weight rounding, 3·2^−subTexelPrecisionBits of the
+// corners' spread; 1e-4 of the term for the pixel's point found by a ray rather than
+// rasterized.
+struct TermCheck {
+  Volume volume;
+  int compared = 0, failed = 0;
+  float largest = 0.0f;
+  std::vector<float> xs;  // the compared pixels' world x
+};
+
+TermCheck check_indirect_term(const vec3& eye, const vec3& target) {
   g_surfels = isotropic(Color(40.0f, 30.0f, 20.0f));
   for (Surfel& s : g_surfels) s.position += vec3(0.0f, 0.0f, -6.0f);  // cell (8, 8, 2)
-  const Scene scene = far_quad();
+  Scene scene = far_quad();
+  scene.camera->position = eye;
+  scene.camera->look_at = target;
   const Color albedo = scene.materials[0].albedo;
   const float amplification = 1.5f;
   const float quantum =
@@ -414,10 +456,8 @@ TEST_F(LpvTest, TheIndirectTermIsTheVolumesIrradiance) {
   Renderer on(context(), scene, o);
   on.render(*scene.camera);
   const Image with = on.hdr();
-  Volume v;
-  for (int z = 0; z < kGrid; ++z) v.slices.push_back(on.read_resource("lpv.accum", uint32_t(z)));
-  int compared = 0, failed = 0;
-  float largest = 0.0f;
+  TermCheck r;
+  r.volume = read_volume(on, *scene.camera, kCascades);
   for (int y = 1; y < o.height - 1; ++y)
     for (int x = 1; x < o.width - 1; ++x) {
       const Ray ray = scene.camera->generate_ray(x + 0.5f, y + 0.5f, o.width, o.height);
@@ -425,23 +465,213 @@ TEST_F(LpvTest, TheIndirectTermIsTheVolumesIrradiance) {
       const vec3 p = ray.origin + t * ray.direction;
       if (std::abs(p.x) > 2.9f || std::abs(p.y) > 2.9f) continue;
       Color spread;
-      const Color e = lookup(v, p, vec3(0.0f, 0.0f, 1.0f), &spread);
-      ++compared;
+      const Color e = lookup(r.volume, p, vec3(0.0f, 0.0f, 1.0f), &spread);
+      ++r.compared;
+      r.xs.push_back(p.x);
       for (int c = 0; c < 3; ++c) {
         const float want = albedo[c] * e[c] / kPi * amplification;
         const float a = with.rgb(x, y)[c], b = without.rgb(x, y)[c];
         const float tol = kHalf * (std::abs(a) + std::abs(b)) +
                           albedo[c] * amplification / kPi * quantum * spread[c] + 1e-4f * want;
-        largest = std::max(largest, want);
-        if (std::abs((a - b) - want) > tol && ++failed <= 5)
+        r.largest = std::max(r.largest, want);
+        if (std::abs((a - b) - want) > tol && ++r.failed <= 5)
           ADD_FAILURE() << "pixel " << x << "," << y << " channel " << c
                         << ": with − without = " << a - b << ", albedo·E/π·amplification " << want
                         << " (tolerance " << tol << ")";
       }
     }
-  EXPECT_GT(compared, 500);
-  EXPECT_GT(largest, 0.05f) << "the term should be far above the tolerance";
-  std::printf("%d pixels, largest term %.4f, %d off\n", compared, largest, failed);
+  return r;
+}
+
+// 4. The lookup from the tests' camera: the quad lies 1.5 cells inside the finest cascade's
+// outer cell centres (z), where its cells hold a blend with the next cascade.
+TEST_F(LpvTest, TheIndirectTermIsTheVolumesIrradiance) {
+  const TermCheck r = check_indirect_term(kCamera, kCamera + vec3(0.0f, 0.0f, -1.1f));
+  EXPECT_NEAR(lpv_inside_cells(r.volume.boxes[0], kGrid, vec3(0.0f, 0.0f, -6.0f)), 1.5f, 1e-5f);
+  EXPECT_GT(r.compared, 500);
+  EXPECT_GT(r.largest, 0.05f) << "the term should be far above the tolerance";
+  std::printf("%d pixels, largest term %.4f, %d off\n", r.compared, r.largest, r.failed);
+}
+
+// 5. The finest cascade's border across the quad: from a camera 5.2 cells along +x the finest
+// box's outer cell centres lie at x = −2.5. Pixels on both sides match the lookup (as 4), and
+// the lookup is continuous across the border: just inside and just outside it (±10⁻³ cells)
+// the irradiance agrees within 2 % — the finer cascade's outer cells hold the coarser one's
+// light sampled at their centres, interpolated again between them — where the two cascades
+// differ by far more two cells inside (printed; the test needs it above 10 %), the jump a
+// lookup without the blend would show.
+TEST_F(LpvTest, CascadesBlendWithoutASeam) {
+  const TermCheck r = check_indirect_term(vec3(5.2f, 0.3f, 0.1f), vec3(0.0f, 0.3f, -6.0f));
+  const LpvCascade& fine = r.volume.boxes[0];
+  const float border = fine.lo.x + 0.5f * fine.cell;
+  ASSERT_NEAR(border, -2.5f, 1e-5f);
+  const auto count = [&](bool inside) {
+    return std::count_if(r.xs.begin(), r.xs.end(), [&](float x) { return (x > border) == inside; });
+  };
+  EXPECT_GT(count(true), 50);
+  EXPECT_GT(count(false), 5);
+  EXPECT_EQ(r.failed, 0);
+  const vec3 n(0.0f, 0.0f, 1.0f);
+  for (float y : {-2.0f, 0.3f, 1.5f}) {
+    const vec3 at(border, y, -6.0f), eps(1e-3f * fine.cell, 0.0f, 0.0f);
+    const Color in = lookup(r.volume, at + eps, n, nullptr);
+    const Color out = lookup(r.volume, at - eps, n, nullptr);
+    const vec3 deep = at + vec3(2.0f * fine.cell, 0.0f, 0.0f);
+    const Color e0 = cascade_irradiance(r.volume, 0, deep, n, nullptr);
+    const Color e1 = cascade_irradiance(r.volume, 1, deep, n, nullptr);
+    for (int c = 0; c < 3; ++c) {
+      const float scale = std::max(in[c], out[c]);
+      EXPECT_NEAR(in[c], out[c], 0.02f * scale) << "y " << y << " channel " << c;
+      EXPECT_GT(std::abs(e0[c] - e1[c]), 0.1f * std::max(e0[c], e1[c]))
+          << "the cascades agree: no seam to test";
+    }
+    std::printf("y %.1f: inside %.4f, outside %.4f; two cells in, finest %.4f, next %.4f\n", y,
+                in[0], out[0], e0[0], e1[0]);
+  }
+}
+
+// 6. Boxes (lpv_cascades): each cascade's corner is a multiple of its cell size, the cell
+// doubles from one to the next, each lies inside the next coarser one with kLpvBlendCells of
+// its cells to spare (so where a cascade blends the coarser one has full weight), and a camera
+// moved within a cell of every cascade leaves every corner where it was; moved by one finest
+// cell, only the cascades whose snap it crosses move, by one of their cells. cell = 0: the
+// coarsest spans the scene's bounds.
+TEST(LpvCascades, SnappedNestedAndStill) {
+  const Bounds3 none;
+  for (const int n : {16, 32, 64}) {
+    for (const vec3 eye : {vec3(0.2f, 0.3f, 0.1f), vec3(-13.7f, 5.1f, 100.3f)}) {
+      const std::vector<LpvCascade> a = lpv_cascades(eye, n, 4, 0.5f, none);
+      ASSERT_EQ(a.size(), 4u);
+      for (size_t k = 0; k < a.size(); ++k) {
+        EXPECT_FLOAT_EQ(a[k].cell, 0.5f * float(1 << k));
+        const vec3 m = a[k].lo / a[k].cell;
+        EXPECT_EQ(m, glm::round(m)) << "cascade " << k << " not snapped";
+        if (k + 1 < a.size()) {
+          const float margin = kLpvBlendCells + 0.5f;  // in the coarser one's cells
+          const vec3 lo = a[k + 1].lo + margin * a[k + 1].cell;
+          const vec3 hi = a[k + 1].lo + (float(n) - margin) * a[k + 1].cell;
+          EXPECT_TRUE(glm::all(glm::greaterThanEqual(a[k].lo, lo)) &&
+                      glm::all(glm::lessThanEqual(a[k].lo + float(n) * a[k].cell, hi)))
+              << "cascade " << k << " not nested, n " << n;
+        }
+      }
+      // Within the finest cell holding the eye (the coarser cells hold it too).
+      const vec3 cell0 = glm::floor(eye / 0.5f) * 0.5f;
+      const std::vector<LpvCascade> b =
+          lpv_cascades(cell0 + vec3(0.49f, 0.01f, 0.3f), n, 4, 0.5f, none);
+      for (size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].lo, b[k].lo) << "cascade " << k;
+      // One finest cell along x.
+      const std::vector<LpvCascade> c =
+          lpv_cascades(eye + vec3(0.5f, 0.0f, 0.0f), n, 4, 0.5f, none);
+      for (size_t k = 0; k < a.size(); ++k) {
+        const bool crosses =
+            std::floor((eye.x + 0.5f) / a[k].cell) != std::floor(eye.x / a[k].cell);
+        EXPECT_EQ(c[k].lo.x - a[k].lo.x, crosses ? a[k].cell : 0.0f) << "cascade " << k;
+        EXPECT_EQ(c[k].lo.y, a[k].lo.y);
+        EXPECT_EQ(c[k].lo.z, a[k].lo.z);
+      }
+    }
+  }
+  Bounds3 scene;
+  scene.extend(vec3(-1.0f, 0.0f, 2.0f));
+  scene.extend(vec3(3.0f, 1.0f, 2.5f));
+  const std::vector<LpvCascade> d = lpv_cascades(vec3(1.0f, 0.5f, -3.0f), 32, 3, 0.0f, scene);
+  EXPECT_FLOAT_EQ(d[2].cell, 4.0f / 31.0f);
+  EXPECT_TRUE(glm::all(glm::lessThanEqual(d[2].lo, scene.min)) &&
+              glm::all(glm::greaterThanEqual(d[2].lo + 32.0f * d[2].cell, scene.max)));
+  EXPECT_FLOAT_EQ(d[0].cell, d[2].cell / 4.0f);
+}
+
+// 7. The cascades do not crawl: a camera moved within the finest cell gives the same volume,
+// every cascade bit for bit; moved by one finest cell along x, the finest cascade's cells are
+// its old ones shifted by one (the light sits in the same world cells) and the coarser ones,
+// whose snap it does not cross, are unchanged. One lobe, three steps: the light stays away
+// from the boxes' faces; the finest cascade is compared where neither copy blends (two cells
+// from its faces).
+TEST_F(LpvTest, TheCascadesStayPutAsTheCameraMoves) {
+  const std::vector<Surfel> one = {lobe(glm::normalize(vec3(1.0f, 0.3f, -0.2f)), Color(1.0f))};
+  const Volume a = propagate(one, 3, kCascades);
+  const Volume b = propagate(one, 3, kCascades, kCamera + vec3(0.4f, 0.3f, 0.2f));
+  const Volume c = propagate(one, 3, kCascades, kCamera + vec3(1.0f, 0.0f, 0.0f));
+  ASSERT_EQ(c.boxes[0].lo.x, a.boxes[0].lo.x + 1.0f);
+  ASSERT_EQ(c.boxes[1].lo, a.boxes[1].lo);
+  const auto interior = [](glm::ivec3 x) {
+    return glm::all(glm::greaterThanEqual(x, glm::ivec3(2))) &&
+           glm::all(glm::lessThan(x, glm::ivec3(kGrid - 2)));
+  };
+  int differ = 0, compared = 0;
+  std::vector<int> lit(kCascades, 0);
+  for (int q = 0; q < kCascades; ++q)
+    each_cell([&](glm::ivec3 x) {
+      for (int ch = 0; ch < 3; ++ch) {
+        lit[size_t(q)] += a.at(ch, x, q).x > 0.0f ? 1 : 0;
+        differ += a.at(ch, x, q) != b.at(ch, x, q) ? 1 : 0;
+        const glm::ivec3 next = x + glm::ivec3(1, 0, 0);
+        if (q == 0 && interior(x) && interior(next)) {
+          ++compared;
+          differ += c.at(ch, x, 0) != a.at(ch, next, 0) ? 1 : 0;
+        }
+        if (q > 0) differ += c.at(ch, x, q) != a.at(ch, x, q) ? 1 : 0;
+      }
+    });
+  for (int q = 0; q < kCascades; ++q)
+    EXPECT_GT(lit[size_t(q)], 3 * 20) << "the light should reach many cells of cascade " << q;
+  EXPECT_GT(compared, 1000);
+  EXPECT_EQ(differ, 0);
+}
+
+// 8. Several lights: two spot lights over a floor, one on each half (x < 0 and x > 0), the
+// right one three times as bright. With both, the injected flux (no steps, the coarsest
+// cascade, which spans the scene) of each half is what that light alone injects, within 1 %
+// (fp16 storage of each cell), and the right half's is three times the left's: both lights'
+// reflective-shadow-map layers are injected.
+TEST_F(LpvTest, EverySpotLightsMapIsInjected) {
+  Scene scene;
+  scene.name = "two spots";
+  Material white;
+  white.albedo = Color(0.5f);
+  scene.materials = {white};
+  test::add_quad(scene, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}, 0);
+  Light left;
+  left.type = LightType::kSpot;
+  left.position = vec3(-2.0f, 1.5f, 0.0f);
+  left.direction = vec3(0.0f, -1.0f, 0.0f);
+  left.cone_half_angle = radians(30.0f);
+  left.intensity = Color(1.0f);
+  Light right = left;
+  right.position.x = 2.0f;
+  right.intensity = Color(3.0f);
+  Camera cam;
+  cam.position = vec3(0.0f, 3.0f, 6.0f);
+  cam.look_at = vec3(0.0f);
+  scene.camera = cam;
+  const auto halves = [&](const std::vector<Light>& lights) {
+    scene.lights = lights;
+    RenderSettings o;
+    o.width = o.height = 16;
+    o.enable("lpv");
+    o.set("lpv.grid", 16);
+    o.set("lpv.iterations", 0);
+    Renderer r(context(), scene, o);
+    r.render(*scene.camera);
+    const Volume v = read_volume(r, cam, kCascades);
+    const LpvCascade box = lpv_cascades(cam.position, kGrid, kCascades, 0.0f, scene.bounds())[2];
+    std::array<double, 2> sum{0.0, 0.0};
+    each_cell([&](glm::ivec3 x) {
+      const float centre = box.lo.x + (float(x.x) + 0.5f) * box.cell;
+      sum[centre > 0.0f ? 1 : 0] += v.flux(0, x, kCascades - 1);
+    });
+    return sum;
+  };
+  const std::array<double, 2> a = halves({left}), b = halves({right}), both = halves({left, right});
+  EXPECT_GT(a[0], 0.0);
+  EXPECT_LT(a[1], 1e-6 * a[0]) << "the left spot lights the left half only";
+  EXPECT_LT(b[0], 1e-6 * b[1]);
+  EXPECT_NEAR(both[0], a[0], 0.01 * a[0]);
+  EXPECT_NEAR(both[1], b[1], 0.01 * b[1]);
+  EXPECT_NEAR(both[1], 3.0 * both[0], 0.01 * 3.0 * both[0]);
+  std::printf("injected flux: left alone %.5f, right alone %.5f, both %.5f + %.5f\n", a[0], b[1],
+              both[0], both[1]);
 }
 
 // The face integrals the propagation uses: the far face's and side faces' solid angles sum to

@@ -1,12 +1,12 @@
-// `lpv`: light propagation volumes, one cascade (docs/realtime-lpv.md). Each frame the
-// reflective shadow maps' texels (techniques/rsm.cpp, rsm_views.h) are injected as virtual
-// point lights — clamped-cosine lobes in L1 spherical harmonics per colour channel — into an
-// n³ grid of cells, their surfaces into a geometry volume of blocking potentials offset by
-// half a cell (shaders/lpv_inject.comp); `iterations` propagation steps move the light cell
-// to cell, conserving its flux except where the geometry volume blocks it
-// (shaders/lpv_propagate.comp), and every step's light is accumulated; the accumulation is
-// resolved into "lpv.accum", which the lighting input of the same name samples for the
-// indirect term (shaders/inputs/lpv.glsl).
+// `lpv`: light propagation volumes (docs/realtime-lpv.md). Each frame the reflective shadow
+// maps' texels (techniques/rsm.cpp, rsm_views.h) are injected as virtual point lights —
+// clamped-cosine lobes in L1 spherical harmonics per colour channel — into the n³ cells of
+// each cascade (nested boxes around the camera, lpv_cascades.h), their surfaces into a
+// geometry volume of blocking potentials offset by half a cell (shaders/lpv_inject.comp);
+// `iterations` propagation steps move the light cell to cell, conserving its flux except where the
+// geometry volume blocks it (shaders/lpv_propagate.comp), and every step's light is accumulated;
+// the accumulation is resolved into "lpv.accum", which the lighting input of the same name samples
+// for the indirect term (shaders/inputs/lpv.glsl).
 //
 // The working volumes are storage buffers private to the technique (the light ping-pong
 // pair, the accumulation, the geometry volume): the injection adds to them with
@@ -26,6 +26,7 @@
 #include "illum/realtime/gpu_scene.h"
 #include "illum/realtime/technique_context.h"
 #include "illum/realtime/technique_registry.h"
+#include "illum/realtime/techniques/lpv_cascades.h"
 #include "illum/realtime/techniques/techniques.h"
 
 namespace illum::realtime {
@@ -35,21 +36,24 @@ namespace {
 constexpr const char* kAccum = "lpv.accum";
 
 // shaders/lpv_common.glsl `LpvParams` (std140).
+constexpr int kMaxCascades = 4;
 struct LpvUniforms {
-  glm::vec4 lo;         // xyz: the volume's min corner; w: the cell size
+  std::array<glm::vec4, kMaxCascades> lo;  // per cascade: xyz its min corner; w its cell size
   glm::ivec4 info;      // x: cells per axis; yzw: the surfel images' width, height, layers
   glm::vec4 far_face;   // x: ΔΩ; y: ∫ω·d dω
   glm::vec4 side_face;  // x: ΔΩ; y: ∫ω·e dω; z: ∫ω·d dω
+  glm::ivec4 cascades;  // x: how many
 };
-static_assert(sizeof(LpvUniforms) == 64);
+static_assert(sizeof(LpvUniforms) == 128);
 
 // shaders/inputs/lpv.glsl `LpvInput` (std140).
 struct LpvInputUniforms {
-  glm::vec4 lo;      // xyz: the volume's min corner; w: the cell size
-  glm::ivec4 info;   // x: cells per axis
-  glm::vec4 params;  // x: amplification
+  std::array<glm::vec4, kMaxCascades> lo;  // as LpvUniforms::lo; past the last cascade, the last
+  glm::vec4 slot;                          // per cascade: its atlas part's z, texture coordinates
+  glm::ivec4 info;                         // x: cells per axis; y: cascades
+  glm::vec4 params;                        // x: amplification
 };
-static_assert(sizeof(LpvInputUniforms) == 48);
+static_assert(sizeof(LpvInputUniforms) == 112);
 
 }  // namespace
 
@@ -108,9 +112,10 @@ class Lpv final : public Technique {
     if (grid != 16 && grid != 32 && grid != 64)
       throw Error(fmt::format("-p lpv.grid={}: 16, 32 or 64", grid));
     n_ = static_cast<uint32_t>(grid);
+    cascades_ = static_cast<uint32_t>(param<int>("cascades"));
     source_ = param<std::string>("source");
-    const VkDeviceSize cells = VkDeviceSize(n_) * n_ * n_;
-    const VkDeviceSize corners = VkDeviceSize(n_ + 1) * (n_ + 1) * (n_ + 1);
+    const VkDeviceSize cells = VkDeviceSize(n_) * n_ * n_ * cascades_;
+    const VkDeviceSize corners = VkDeviceSize(n_ + 1) * (n_ + 1) * (n_ + 1) * cascades_;
     const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                      VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
@@ -128,6 +133,7 @@ class Lpv final : public Technique {
     u_.side_face =
         glm::vec4(float(f.side_solid_angle), float(f.side_across), float(f.side_along), 0.0f);
     u_.info = glm::ivec4(static_cast<int>(n_), 0, 0, 0);
+    u_.cascades = glm::ivec4(static_cast<int>(cascades_), 0, 0, 0);
   }
 
   void declare(FrameGraph& graph) override {
@@ -141,7 +147,7 @@ class Lpv final : public Technique {
     r.name = kAccum;
     r.width = 3 * n_;  // R, G and B parts side by side
     r.height = n_;
-    r.depth = n_;
+    r.depth = n_ * cascades_;  // the cascades one after the other
     r.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     // Read back by tests and shown by -p debug.show=lpv.accum:SLICE.
     r.extra_usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
@@ -198,25 +204,18 @@ class Lpv final : public Technique {
   }
 
   void update() override {
-    // The box: n cells of size `cell` around the camera, snapped to the cell size so it does
-    // not crawl as the camera moves; with cell = 0, cubic cells covering the scene's bounds
-    // wherever the snap puts them (n − 1 cells span the largest side).
-    const float n = static_cast<float>(n_);
-    float s = param<float>("cell");
-    vec3 lo;
-    if (s > 0.0f) {
-      lo = (glm::floor(ctx_.view().camera.position / s) - 0.5f * n) * s;
-    } else {
-      const Bounds3 b = ctx_.scene.bounds();
-      const vec3 size = b.max - b.min;
-      s = std::max({size.x, size.y, size.z, 1e-3f}) / (n - 1.0f);
-      lo = glm::floor(b.min / s) * s;
-    }
-    u_.lo = vec4(lo, s);
+    const std::vector<LpvCascade> boxes =
+        lpv_cascades(ctx_.view().camera.position, static_cast<int>(n_), static_cast<int>(cascades_),
+                     param<float>("cell"), ctx_.scene.bounds());
+    for (size_t k = 0; k < boxes.size(); ++k) u_.lo[k] = vec4(boxes[k].lo, boxes[k].cell);
     uniforms_.write(&u_, sizeof(u_));
     LpvInputUniforms in{};
-    in.lo = u_.lo;
-    in.info = glm::ivec4(static_cast<int>(n_), 0, 0, 0);
+    for (size_t k = 0; k < in.lo.size(); ++k) {
+      const size_t q = std::min(k, boxes.size() - 1);
+      in.lo[k] = u_.lo[q];
+      in.slot[int(k)] = static_cast<float>(q) / static_cast<float>(cascades_);
+    }
+    in.info = glm::ivec4(static_cast<int>(n_), static_cast<int>(cascades_), 0, 0);
     in.params = vec4(param<float>("amplification"), 0.0f, 0.0f, 0.0f);
     input_uniforms_.write(&in, sizeof(in));
   }
@@ -249,6 +248,7 @@ class Lpv final : public Technique {
     constexpr VkAccessFlags kShader = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
     const VkCommandBuffer c = pass.cmd();
     const uint32_t groups = (n_ + 3) / 4;
+    const uint32_t depth_groups = groups * cascades_;  // n is a multiple of 4
     barrier(c, kCompute, kShader, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT);
     vkCmdFillBuffer(c, light_[0].handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(c, geometry_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -273,14 +273,14 @@ class Lpv final : public Technique {
       for (int k = 0; k < iterations; ++k) {
         vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), 0, 1,
                                 &sets_[k % 2], 0, nullptr);
-        vkCmdDispatch(c, groups, groups, groups);
+        vkCmdDispatch(c, groups, groups, depth_groups);
         barrier(c, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShader);
       }
     }
     vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), 0, 1, &sets_[0], 0,
                             nullptr);
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
-    vkCmdDispatch(c, groups, groups, groups);
+    vkCmdDispatch(c, groups, groups, depth_groups);
   }
 
   gpu::DescriptorAllocator descriptors_;
@@ -293,6 +293,7 @@ class Lpv final : public Technique {
   gpu::Buffer accumulation_, geometry_, uniforms_, input_uniforms_;
   LpvUniforms u_{};
   uint32_t n_ = 32;
+  uint32_t cascades_ = 3;
   std::string source_;
   bool injects_ = false;
 };
@@ -304,14 +305,18 @@ TechniqueDecl lpv_technique() {
   t.name = "lpv";
   t.kind = TechniqueKind::kAddOn;
   t.summary =
-      "light propagation volume (one cascade): the reflective shadow maps injected as SH "
-      "lobes, propagated cell to cell conserving flux, looked up as the indirect term";
+      "light propagation volumes (nested cascades around the camera): the reflective shadow "
+      "maps injected as SH lobes, propagated cell to cell conserving flux, looked up as the "
+      "indirect term";
   t.dependencies = {"rsm"};
   t.params = {
       int_param("grid", 32, 16, 64, "cells along each axis: 16, 32 or 64").structural(),
+      int_param("cascades", 3, 1, kMaxCascades,
+                "nested volumes around the camera, the cell size doubling from one to the next")
+          .structural(),
       float_param("cell", 0.0f, 0.0f, 1e4f,
-                  "cell size (world units) of a box around the camera, snapped to it; 0: "
-                  "cubic cells covering the scene's bounds"),
+                  "the finest cascade's cell size (world units), each cascade snapped to its "
+                  "own; 0: the coarsest spans the scene's bounds"),
       int_param("iterations", 8, 0, 64, "propagation steps per frame"),
       float_param("amplification", 1.0f, 0.0f, 100.0f, "scales the indirect term"),
       string_param("source", "rsm",
