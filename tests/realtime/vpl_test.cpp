@@ -3,7 +3,8 @@
 // says, pixel by pixel, and the frames of the forward and visibility pipelines hold
 // albedo·E/π as their indirect term; the clamp replaces d² by c² inside c and nowhere else;
 // with one VPL per texel the irradiance is the brute-force sum over the reflective shadow
-// map's texels, and with fewer the flux-weighted draw keeps the sum's mean.
+// map's texels (a spot's one view, a point light's six faces), and with fewer the
+// flux-weighted draw keeps the sum's mean.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -297,42 +298,44 @@ TEST_F(VplTest, ClampBoundsTheFalloffInsideItsDistanceOnly) {
   std::printf("clamp %.2f: %d pixels inside, %d outside\n", clamp, inside, outside);
 }
 
-// A spot on a floor in front of a wall z = −1: the wall's irradiance from one VPL per texel
-// (count 4096 on 64² maps) is the sum over the read-back maps' texels, and with 64 or 256 VPLs
-// (blocks of 8² or 4² texels, one drawn texel each) the mean over the wall stays that sum's.
-TEST_F(VplTest, OneVplPerTexelIsTheSumOverTheMapAndFewerKeepItsMean) {
+// A floor in front of a wall z = −1, lit by `light`, seen from the front.
+Scene wall_scene(const Light& light) {
   Scene scene = floor_scene();
   scene.name = "vpl-wall";
   test::add_quad(scene, {-4, 0, -1}, {4, 0, -1}, {4, 4, -1}, {-4, 4, -1}, 0);
-  Light spot;
-  spot.type = LightType::kSpot;
-  spot.position = vec3(0.2f, 2.0f, 0.3f);
-  spot.direction = glm::normalize(vec3(0.1f, -1.0f, -0.3f));
-  spot.cone_half_angle = radians(35.0f);
-  spot.intensity = Color(3.0f, 2.0f, 1.0f);
-  scene.lights = {spot};
+  scene.lights = {light};
   scene.camera->position = vec3(0.3f, 2.0f, 3.0f);
   scene.camera->look_at = vec3(0.0f, 1.0f, -1.0f);
-  auto run = [&](int count, Image* e, std::vector<Image>* maps) {
-    RenderSettings o;
-    o.width = o.height = kSize;
-    o.pipeline = "forward";
-    o.shadows = "none";
-    o.enable("vpl");
-    o.set("rsm.resolution", 64);
-    o.set("vpl.count", count);
-    Renderer r(context(), scene, o);
-    r.render(*scene.camera);
-    *e = r.read_resource("vpl.irradiance");
-    if (maps)
-      *maps = {r.read_resource(rsm::kPosition, 0), r.read_resource(rsm::kNormal, 0),
-               r.read_resource(rsm::kFlux, 0)};
-  };
-  Image all;
-  std::vector<Image> maps;
-  run(4096, &all, &maps);
-  double mean_all = 0.0, mean_sum = 0.0;
-  std::vector<std::pair<int, int>> wall;
+  return scene;
+}
+
+// "vpl.irradiance" with `count` VPLs a view from 64² maps, and the maps' `layers` layers
+// (position, normal, flux of each) when asked.
+Image run_maps(const Scene& scene, int count, int layers, std::vector<Image>* maps) {
+  RenderSettings o;
+  o.width = o.height = kSize;
+  o.pipeline = "forward";
+  o.shadows = "none";
+  o.enable("vpl");
+  o.set("rsm.resolution", 64);
+  o.set("vpl.count", count);
+  Renderer r(context(), scene, o);
+  r.render(*scene.camera);
+  if (maps)
+    for (int k = 0; k < layers; ++k)
+      for (const char* name : {rsm::kPosition, rsm::kNormal, rsm::kFlux})
+        maps->push_back(r.read_resource(name, uint32_t(k)));
+  return r.read_resource("vpl.irradiance");
+}
+
+// Every wall pixel of the 4096-VPL image (one VPL per texel) against the brute-force sum over
+// the maps' texels; returns the wall pixels and the sum's mean (R).
+struct Wall {
+  std::vector<std::pair<int, int>> pixels;
+  double mean_sum = 0.0, mean_image = 0.0;
+};
+Wall check_wall(const Scene& scene, const Image& all, const std::vector<Image>& maps) {
+  Wall w;
   for (int y = 2; y < kSize - 2; ++y)
     for (int x = 2; x < kSize - 2; ++x) {
       const Hit h = pixel_on_plane(scene, x, y, vec3(0, 0, 1), -1.0f);
@@ -340,39 +343,87 @@ TEST_F(VplTest, OneVplPerTexelIsTheSumOverTheMapAndFewerKeepItsMean) {
       if (h.t <= 0.0f || (f.t > 0.0f && f.t < h.t) || h.p.y < 0.05f || h.p.y > 3.9f ||
           std::abs(h.p.x) > 3.9f)
         continue;
-      wall.push_back({x, y});
+      w.pixels.push_back({x, y});
       glm::dvec3 sum(0.0);
       float nearest = 1e30f;  // the nearest VPL, for the depth buffer's share of the tolerance
-      for (int ty = 0; ty < 64; ++ty)
-        for (int tx = 0; tx < 64; ++tx) {
-          const float* pos = maps[0].pixel(tx, ty);
-          if (pos[3] != 1.0f) continue;
-          const vec3 m = glm::normalize(
-              vec3(maps[1].pixel(tx, ty)[0], maps[1].pixel(tx, ty)[1], maps[1].pixel(tx, ty)[2]));
-          nearest = std::min(nearest, glm::length(h.p - vec3(pos[0], pos[1], pos[2])));
-          for (int ch = 0; ch < 3; ++ch)
-            sum[ch] += irradiance(h.p, vec3(0, 0, 1), vec3(pos[0], pos[1], pos[2]), m,
-                                  maps[2].pixel(tx, ty)[ch], 0.0);
-        }
+      for (size_t k = 0; k + 2 < maps.size(); k += 3)
+        for (int ty = 0; ty < 64; ++ty)
+          for (int tx = 0; tx < 64; ++tx) {
+            const float* pos = maps[k].pixel(tx, ty);
+            if (pos[3] != 1.0f) continue;
+            const float* nrm = maps[k + 1].pixel(tx, ty);
+            const vec3 m = glm::normalize(vec3(nrm[0], nrm[1], nrm[2]));
+            const vec3 x0(pos[0], pos[1], pos[2]);
+            nearest = std::min(nearest, glm::length(h.p - x0));
+            for (int ch = 0; ch < 3; ++ch)
+              sum[ch] += irradiance(h.p, vec3(0, 0, 1), x0, m, maps[k + 2].pixel(tx, ty)[ch], 0.0);
+          }
       for (int ch = 0; ch < 3; ++ch)
         EXPECT_NEAR(all.pixel(x, y)[ch], sum[ch], tolerance(sum[ch], h.t, nearest) + 1e-9)
             << "pixel " << x << "," << y << " channel " << ch;
-      mean_all += all.pixel(x, y)[0];
-      mean_sum += sum[0];
+      w.mean_image += all.pixel(x, y)[0];
+      w.mean_sum += sum[0];
     }
-  ASSERT_GT(wall.size(), size_t(kSize * kSize / 4));
-  ASSERT_GT(mean_sum, 0.0);
-  std::printf("4096 VPLs on 64² maps: %zu wall pixels, mean E %.5f, brute force %.5f\n",
-              wall.size(), mean_all / wall.size(), mean_sum / wall.size());
-  for (int count : {64, 256}) {
-    Image e;
-    run(count, &e, nullptr);
-    double mean = 0.0;
-    for (auto [x, y] : wall) mean += e.pixel(x, y)[0];
-    std::printf("%d VPLs: mean E over the wall / brute force - 1 = %+.4f\n", count,
-                mean / mean_sum - 1.0);
-    EXPECT_NEAR(mean / mean_sum, 1.0, 0.05) << count << " VPLs";
+  if (!w.pixels.empty()) {
+    w.mean_image /= double(w.pixels.size());
+    w.mean_sum /= double(w.pixels.size());
   }
+  return w;
+}
+
+// A spot on the floor in front of the wall: the wall's irradiance from one VPL per texel
+// (count 4096 on 64² maps) is the sum over the read-back map's texels, and with 64 or 256
+// VPLs (blocks of 8² or 4² texels, one drawn texel each) the mean over the wall stays that
+// sum's.
+TEST_F(VplTest, OneVplPerTexelIsTheSumOverTheMapAndFewerKeepItsMean) {
+  Light spot;
+  spot.type = LightType::kSpot;
+  spot.position = vec3(0.2f, 2.0f, 0.3f);
+  spot.direction = glm::normalize(vec3(0.1f, -1.0f, -0.3f));
+  spot.cone_half_angle = radians(35.0f);
+  spot.intensity = Color(3.0f, 2.0f, 1.0f);
+  const Scene scene = wall_scene(spot);
+  std::vector<Image> maps;
+  const Image all = run_maps(scene, 4096, 1, &maps);
+  const Wall w = check_wall(scene, all, maps);
+  ASSERT_GT(w.pixels.size(), size_t(kSize * kSize / 4));
+  ASSERT_GT(w.mean_sum, 0.0);
+  std::printf("4096 VPLs on 64² maps: %zu wall pixels, mean E %.5f, brute force %.5f\n",
+              w.pixels.size(), w.mean_image, w.mean_sum);
+  for (int count : {64, 256}) {
+    const Image e = run_maps(scene, count, 1, nullptr);
+    double mean = 0.0;
+    for (auto [x, y] : w.pixels) mean += e.pixel(x, y)[0];
+    mean /= double(w.pixels.size());
+    std::printf("%d VPLs: mean E over the wall / brute force - 1 = %+.4f\n", count,
+                mean / w.mean_sum - 1.0);
+    EXPECT_NEAR(mean / w.mean_sum, 1.0, 0.05) << count << " VPLs";
+  }
+}
+
+// A point light: six cube faces, 4096 VPLs each, every one of them summed — the wall's
+// irradiance is the brute-force sum over all six layers' texels.
+TEST_F(VplTest, APointLightsSixFacesAreAllSummed) {
+  Light point;
+  point.type = LightType::kPoint;
+  point.position = vec3(-0.3f, 1.2f, 0.2f);
+  point.intensity = Color(1.0f, 2.0f, 3.0f);
+  const Scene scene = wall_scene(point);
+  std::vector<Image> maps;
+  const Image all = run_maps(scene, 4096, 6, &maps);
+  const Wall w = check_wall(scene, all, maps);
+  ASSERT_GT(w.pixels.size(), size_t(kSize * kSize / 4));
+  // The floor in front of the wall is seen by several faces, each adding its share.
+  int faces = 0;
+  for (size_t k = 0; k < maps.size(); k += 3) {
+    double flux = 0.0;
+    for (int ty = 0; ty < 64; ++ty)
+      for (int tx = 0; tx < 64; ++tx) flux += maps[k + 2].pixel(tx, ty)[0];
+    faces += flux > 0.0;
+  }
+  EXPECT_GE(faces, 3);
+  std::printf("point light: %d faces with flux, mean E %.5f, brute force %.5f\n", faces,
+              w.mean_image, w.mean_sum);
 }
 
 TEST_F(VplTest, DeferredPipelineIsRefused) {
