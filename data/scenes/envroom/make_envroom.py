@@ -90,9 +90,9 @@ def torus(name, material, c, big, small, turn_deg, nu=64, nvv=24):
     obj(name, material, verts, norms, faces)
 
 
-sphere("mirror_sphere", "mirror", (-1.0, 0.4, -0.95), 0.4)
-sphere("glass_sphere", "glass", (0.6, 0.4, -0.6), 0.4)
-torus("copper_torus", "copper", (-0.15, 0.4, 0.1), 0.3, 0.1, 35.0)
+sphere("mirror_sphere", "mirror", (0.8, 0.4, -0.75), 0.4)
+sphere("glass_sphere", "glass", (-0.45, 0.4, -0.75), 0.4)
+torus("copper_torus", "copper", (-0.8, 0.4, 0.5), 0.3, 0.1, 35.0)
 
 mtl = """# Colours only: envroom.illum.json makes mirror, glass and copper what their names say.
 newmtl floor
