@@ -19,8 +19,12 @@ layout(std140, set = 0, binding = 0) uniform LpvParams {
   ivec4 info;    // x: cells per axis n; y: surfel images' width, z: height, w: layers
   vec4 far_face; // x: the far face's solid angle ΔΩ; y: ∫ω·d dω over it; zw: unused
   vec4 side_face;  // x: a side face's ΔΩ; y: ∫ω·e dω (e: its outward axis); z: ∫ω·d dω
-  ivec4 cascades;  // x: how many
+  ivec4 cascades;  // x: how many; y: bit q set: cascade q is rebuilt this frame; z: bit q set:
+                   // its history restarts (first build, or its box moved)
+  vec4 blend;      // x: the weight of a rebuild in the history
 } lpv;
+
+bool lpv_rebuilt(int q) { return (lpv.cascades.y & (1 << q)) != 0; }
 
 // Flat index of float k of channel c of cell x of cascade q (12 floats per cell).
 int lpv_index(int q, ivec3 x, int c, int k) {

@@ -75,6 +75,7 @@ void main() {
   }
 
   for (int q = 0; q < lpv.cascades.x; ++q) {
+    if (!lpv_rebuilt(q)) continue;
     vec3 lo = lpv.lo[q].xyz;
     float s = lpv.lo[q].w;
     ivec3 cell = ivec3(floor((pos.xyz + 0.5 * s * nrm - lo) / s));

@@ -77,7 +77,7 @@ void main() {
   ivec3 x = ivec3(gl_GlobalInvocationID);
   int q = x.z / n;
   x.z -= q * n;
-  if (any(greaterThanEqual(x, ivec3(n))) || q >= lpv.cascades.x) return;
+  if (any(greaterThanEqual(x, ivec3(n))) || q >= lpv.cascades.x || !lpv_rebuilt(q)) return;
   vec4 gathered[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
   for (int a = 0; a < 6; ++a) {
     ivec3 from = x - kAxes[a];

@@ -2,7 +2,8 @@
 // Copies the LPV's accumulated light (float buffer, techniques/lpv.cpp) into "lpv.accum", the
 // image the lighting input samples trilinearly: an atlas of three parts along x (R, G, B),
 // each texel (c0, c.x, c.y, c.z) of lpv_common.glsl; the cascades one after the other along z.
-// A cascade's cells within two of its outermost ones are blended with the next coarser
+// It reads each cascade's history (lpv_history.comp), not its latest accumulation. A cascade's
+// cells within two of its outermost ones are blended with the next coarser
 // cascade, sampled trilinearly at the cell's centre, by weight min(i/2, 1) (i: the cell's
 // distance in cells from the outermost layer). The lookup reads the finest cascade holding
 // the point, so it fades into the coarser one towards the border with three fetches a pixel,
@@ -10,7 +11,7 @@
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #include "lpv_common.glsl"
 
-layout(std430, set = 0, binding = 4) readonly buffer Accumulation { float acc[]; };
+layout(std430, set = 0, binding = 4) readonly buffer History { float acc[]; };
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image3D accum;
 
 vec4 cell(int q, ivec3 x, int c) {

@@ -1,6 +1,6 @@
 // `--enable lpv` at the CLI: the frame is written and lists the lpv pass; a source that
-// nothing declares, a grid size or a cascade count out of range is one line with exit code 2
-// and no output file.
+// nothing declares, a grid size, a cascade count or an update period out of range is one line
+// with exit code 2 and no output file.
 #include <string>
 
 #include "cli_fixture.h"
@@ -39,6 +39,9 @@ TEST_F(CliLpv, AnUndeclaredSourceIsOneLineExitTwo) {
   const Result cascades =
       illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.cascades=5");
   expect_bad_input(cascades, "parameter 'lpv.cascades' = 5 is outside [1, 4]");
+  const Result period =
+      illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.update_period=0");
+  expect_bad_input(period, "parameter 'lpv.update_period' = 0 is outside [1, 8]");
   command += " -o " + (dir_ / "f.png").string();
   const Result r = illum(command);
   expect_bad_input(r, "-p lpv.source=nothing: nothing in this frame declares 'nothing.position'");

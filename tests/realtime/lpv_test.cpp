@@ -674,6 +674,85 @@ TEST_F(LpvTest, EverySpotLightsMapIsInjected) {
               both[0], both[1]);
 }
 
+// 9. Temporal amortisation. Period 1: a running renderer switched from two steps to four gives
+// a fresh four-step renderer's volume bit for bit (every cascade rebuilt, nothing kept).
+// Period 3, switched from two steps to four after the first frame (which builds every
+// cascade): frame f rebuilds cascade f mod 3 only; a rebuilt cascade's cells move halfway from
+// the two-step light to the four-step light (fp16 rounding of both, 2·2⁻¹⁰ of the larger),
+// the others stay the two-step light bit for bit. The finer cascades are compared two cells
+// from their faces, where they do not blend with the next.
+TEST_F(LpvTest, AnUpdatePeriodRebuildsOneCascadeAFrame) {
+  g_surfels = {lobe(glm::normalize(vec3(1.0f, 0.3f, -0.2f)), Color(1.0f, 2.0f, 0.5f))};
+  const Scene scene = far_quad();
+  const auto settings = [](int iterations, int period) {
+    RenderSettings o;
+    o.width = o.height = 16;
+    o.shadows = "surfels";
+    o.enable("lpv");
+    o.set("lpv.source", std::string("surfels"));
+    o.set("lpv.grid", 16);
+    o.set("lpv.cell", 1.0f);
+    o.set("lpv.iterations", iterations);
+    o.set("lpv.update_period", period);
+    return o;
+  };
+  const auto fresh = [&](int iterations) {
+    Renderer r(context(), scene, settings(iterations, 1));
+    r.render(*scene.camera);
+    return read_volume(r, *scene.camera, kCascades);
+  };
+  const Volume two = fresh(2), four = fresh(4);
+  const auto compared = [](int q, glm::ivec3 x) {
+    return q == kCascades - 1 || (glm::all(glm::greaterThanEqual(x, glm::ivec3(2))) &&
+                                  glm::all(glm::lessThan(x, glm::ivec3(kGrid - 2))));
+  };
+  {
+    Renderer r(context(), scene, settings(2, 1));
+    r.render(*scene.camera);
+    r.configure(settings(4, 1));
+    r.render(*scene.camera);
+    const Volume v = read_volume(r, *scene.camera, kCascades);
+    int differ = 0;
+    for (int q = 0; q < kCascades; ++q)
+      each_cell([&](glm::ivec3 x) {
+        for (int c = 0; c < 3; ++c) differ += v.at(c, x, q) != four.at(c, x, q) ? 1 : 0;
+      });
+    EXPECT_EQ(differ, 0) << "period 1";
+  }
+  Renderer r(context(), scene, settings(2, 3));
+  r.render(*scene.camera);
+  r.configure(settings(4, 3));
+  std::vector<bool> rebuilt(kCascades, false);
+  for (int frame = 1; frame <= 3; ++frame) {
+    r.render(*scene.camera);
+    rebuilt[size_t(frame % 3)] = true;
+    const Volume v = read_volume(r, *scene.camera, kCascades);
+    for (int q = 0; q < kCascades; ++q) {
+      int differ = 0, moved = 0, cells = 0;
+      each_cell([&](glm::ivec3 x) {
+        if (!compared(q, x)) return;
+        for (int c = 0; c < 3; ++c) {
+          const glm::vec4 got = v.at(c, x, q), a = two.at(c, x, q), b = four.at(c, x, q);
+          ++cells;
+          moved += a != b ? 1 : 0;
+          for (int k = 0; k < 4; ++k) {
+            const float want = rebuilt[size_t(q)] ? 0.5f * (a[k] + b[k]) : a[k];
+            const float tol = rebuilt[size_t(q)]
+                                  ? 2.0f * kHalf * std::max(std::abs(a[k]), std::abs(b[k])) + 1e-7f
+                                  : 0.0f;
+            if (std::abs(got[k] - want) > tol && ++differ <= 3)
+              ADD_FAILURE() << "frame " << frame << " cascade " << q << " cell " << x.x << ","
+                            << x.y << "," << x.z << "[" << k << "]: " << got[k] << ", want "
+                            << want;
+          }
+        }
+      });
+      EXPECT_GT(moved, 30) << "cascade " << q << ": two and four steps should differ";
+      EXPECT_EQ(differ, 0) << "frame " << frame << " cascade " << q << " of " << cells;
+    }
+  }
+}
+
 // The face integrals the propagation uses: the far face's and side faces' solid angles sum to
 // the shared face's, 4π/6; the far face's has the closed form 4·asin(1/10) (a square of side
 // 1 at distance 3⁄2); the side faces' vector integrals balance on the axis.

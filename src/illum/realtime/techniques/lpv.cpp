@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "illum/core/error.h"
 #include "illum/gpu/buffer.h"
@@ -42,9 +43,10 @@ struct LpvUniforms {
   glm::ivec4 info;      // x: cells per axis; yzw: the surfel images' width, height, layers
   glm::vec4 far_face;   // x: ΔΩ; y: ∫ω·d dω
   glm::vec4 side_face;  // x: ΔΩ; y: ∫ω·e dω; z: ∫ω·d dω
-  glm::ivec4 cascades;  // x: how many
+  glm::ivec4 cascades;  // x: how many; y: mask of those rebuilt; z: mask of those restarting
+  glm::vec4 blend;      // x: the weight of a rebuild in the history
 };
-static_assert(sizeof(LpvUniforms) == 128);
+static_assert(sizeof(LpvUniforms) == 144);
 
 // shaders/inputs/lpv.glsl `LpvInput` (std140).
 struct LpvInputUniforms {
@@ -105,7 +107,10 @@ class Lpv final : public Technique {
     inject_ = gpu::Pipeline(ctx.gpu, inject_layout_.handle(), "lpv_inject.comp");
     propagate_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "lpv_propagate.comp");
     resolve_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "lpv_resolve.comp");
+    history_pass_ = gpu::Pipeline(ctx.gpu, layout_.handle(), "lpv_history.comp");
     for (VkDescriptorSet& s : sets_) s = descriptors_.allocate(set_layout_);
+    history_set_ = descriptors_.allocate(set_layout_);
+    resolve_set_ = descriptors_.allocate(set_layout_);
     inject_set_ = descriptors_.allocate(inject_set_layout_);
 
     const int grid = param<int>("grid");
@@ -123,6 +128,7 @@ class Lpv final : public Technique {
       b = gpu::Buffer(ctx.gpu, cells * 12 * sizeof(float), usage, gpu::MemoryUsage::kDevice);
     accumulation_ =
         gpu::Buffer(ctx.gpu, cells * 12 * sizeof(float), usage, gpu::MemoryUsage::kDevice);
+    history_ = gpu::Buffer(ctx.gpu, cells * 12 * sizeof(float), usage, gpu::MemoryUsage::kDevice);
     geometry_ = gpu::Buffer(ctx.gpu, corners * 4 * sizeof(float), usage, gpu::MemoryUsage::kDevice);
     uniforms_ = gpu::Buffer(ctx.gpu, sizeof(LpvUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                             gpu::MemoryUsage::kUpload);
@@ -181,6 +187,18 @@ class Lpv final : public Technique {
           .image(sets_[k], 9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, ctx_.resources.image(kAccum).view(),
                  VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     }
+    // The history pass reads the accumulation (4) into the history (2); the resolve reads the
+    // history (4).
+    for (const VkDescriptorSet set : {history_set_, resolve_set_})
+      w.buffer(set, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms_.handle())
+          .buffer(set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, light_[0].handle())
+          .buffer(set, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  set == history_set_ ? history_.handle() : light_[1].handle())
+          .buffer(set, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, geometry_.handle())
+          .buffer(set, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                  set == history_set_ ? accumulation_.handle() : history_.handle())
+          .image(set, 9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, ctx_.resources.image(kAccum).view(),
+                 VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
     const std::array<std::string, 4> names = {source_ + ".position", source_ + ".normal",
                                               source_ + ".flux", source_ + ".views"};
     injects_ = std::all_of(names.begin(), names.end(), [&](const std::string& name) {
@@ -204,10 +222,33 @@ class Lpv final : public Technique {
   }
 
   void update() override {
-    const std::vector<LpvCascade> boxes =
+    const std::vector<LpvCascade> fresh =
         lpv_cascades(ctx_.view().camera.position, static_cast<int>(n_), static_cast<int>(cascades_),
                      param<float>("cell"), ctx_.scene.bounds());
+    // Cascade k is rebuilt in the frames f with f ≡ k (mod period), staggered so that one
+    // cascade's work falls in a frame; the others keep their light and their box. A rebuild
+    // moves the history halfway to the new light, or restarts it where the box moved (its
+    // cells hold other places now) or on the first build. Period 1: every cascade, every
+    // frame, the history the new light itself.
+    const uint32_t period = static_cast<uint32_t>(param<int>("update_period"));
+    int rebuilt = 0, restart = 0;
+    boxes_.resize(fresh.size());
+    built_.resize(fresh.size(), false);
+    for (size_t k = 0; k < fresh.size(); ++k) {
+      if (built_[k] && period > 1 && frame_ % period != k % period) continue;
+      rebuilt |= 1 << k;
+      if (!built_[k] || period == 1 || boxes_[k].lo != fresh[k].lo ||
+          boxes_[k].cell != fresh[k].cell)
+        restart |= 1 << k;
+      boxes_[k] = fresh[k];
+      built_[k] = true;
+    }
+    ++frame_;
+    const std::vector<LpvCascade>& boxes = boxes_;
     for (size_t k = 0; k < boxes.size(); ++k) u_.lo[k] = vec4(boxes[k].lo, boxes[k].cell);
+    u_.cascades = glm::ivec4(static_cast<int>(cascades_), rebuilt, restart, 0);
+    u_.blend = vec4(0.5f, 0.0f, 0.0f, 0.0f);
+    rebuilt_ = rebuilt;
     uniforms_.write(&u_, sizeof(u_));
     LpvInputUniforms in{};
     for (size_t k = 0; k < in.lo.size(); ++k) {
@@ -261,10 +302,15 @@ class Lpv final : public Technique {
       vkCmdDispatch(c, (uint32_t(u_.info.y) + 7) / 8, (uint32_t(u_.info.z) + 7) / 8,
                     uint32_t(u_.info.w));
     }
-    // The accumulation starts as the injected light.
+    // A rebuilt cascade's accumulation starts as its injected light; the others' stay.
     barrier(c, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kTransfer, VK_ACCESS_TRANSFER_READ_BIT);
-    const VkBufferCopy all{0, 0, light_[0].size()};
-    vkCmdCopyBuffer(c, light_[0].handle(), accumulation_.handle(), 1, &all);
+    const VkDeviceSize part = light_[0].size() / cascades_;
+    std::vector<VkBufferCopy> parts;
+    for (uint32_t q = 0; q < cascades_; ++q)
+      if (rebuilt_ & (1 << q)) parts.push_back({q * part, q * part, part});
+    if (!parts.empty())
+      vkCmdCopyBuffer(c, light_[0].handle(), accumulation_.handle(),
+                      static_cast<uint32_t>(parts.size()), parts.data());
     barrier(c, kTransfer, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShader);
     {
       auto scope = pass.scope("lpv.propagate");
@@ -277,8 +323,13 @@ class Lpv final : public Technique {
         barrier(c, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShader);
       }
     }
-    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), 0, 1, &sets_[0], 0,
-                            nullptr);
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), 0, 1,
+                            &history_set_, 0, nullptr);
+    vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, history_pass_.handle());
+    vkCmdDispatch(c, groups, groups, depth_groups);
+    barrier(c, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShader);
+    vkCmdBindDescriptorSets(c, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.handle(), 0, 1,
+                            &resolve_set_, 0, nullptr);
     vkCmdBindPipeline(c, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
     vkCmdDispatch(c, groups, groups, depth_groups);
   }
@@ -287,7 +338,13 @@ class Lpv final : public Technique {
   gpu::DescriptorSetLayout set_layout_, inject_set_layout_;
   gpu::PipelineLayout layout_, inject_layout_;
   VkDescriptorSet inject_set_ = VK_NULL_HANDLE;
-  gpu::Pipeline inject_, propagate_, resolve_;
+  gpu::Pipeline inject_, propagate_, resolve_, history_pass_;
+  VkDescriptorSet history_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;
+  gpu::Buffer history_;            // per cascade the light the lookup sees (lpv_history.comp)
+  std::vector<LpvCascade> boxes_;  // each cascade's box at its last rebuild
+  std::vector<bool> built_;
+  uint64_t frame_ = 0;
+  int rebuilt_ = 0;  // this frame's mask of rebuilt cascades
   std::array<VkDescriptorSet, 2> sets_{};
   std::array<gpu::Buffer, 2> light_;
   gpu::Buffer accumulation_, geometry_, uniforms_, input_uniforms_;
@@ -318,6 +375,9 @@ TechniqueDecl lpv_technique() {
                   "the finest cascade's cell size (world units), each cascade snapped to its "
                   "own; 0: the coarsest spans the scene's bounds"),
       int_param("iterations", 8, 0, 64, "propagation steps per frame"),
+      int_param("update_period", 1, 1, 8,
+                "cascade k is rebuilt in frames f with f = k (mod this), the others keep their "
+                "light; a rebuild moves the looked-up light halfway"),
       float_param("amplification", 1.0f, 0.0f, 100.0f, "scales the indirect term"),
       string_param("source", "rsm",
                    "the maps injected: SOURCE.position, .normal, .flux and .views, laid out "
