@@ -20,7 +20,7 @@
 # (SCENE-WxH-SPPspp-seedN.exr) and reused by later runs of the same size and spp.
 # Sizes: cornell-spot 256×256 and sibenik 320×200 by default (WIDTH and HEIGHT override
 # both), SPP path samples per pixel per seed (1024). Time on the 2-core machine, loaded by
-# other builds: about 3 min for cornell-spot, 12 min for sibenik, almost all of it the path
+# other builds: about 2 min for cornell-spot, 13 min for sibenik, almost all of it the path
 # tracer (bench/results/gi.md).
 set -euo pipefail
 if [ $# -lt 3 ]; then
