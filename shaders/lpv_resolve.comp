@@ -8,6 +8,9 @@
 // distance in cells from the outermost layer). The lookup reads the finest cascade holding
 // the point, so it fades into the coarser one towards the border with three fetches a pixel,
 // not six (more fetches in the frame pipelines' inputs crash lavapipe's compiler now and then).
+// A fourth part holds, per cell, the gradient of the DC terms summed over the channels (per
+// cell, central differences; one-sided at the faces) and that sum: the lookup's leak
+// dampening reads the directional derivative along the normal with one fetch.
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #include "lpv_common.glsl"
 
@@ -17,6 +20,11 @@ layout(set = 0, binding = 9, rgba16f) uniform writeonly image3D accum;
 vec4 cell(int q, ivec3 x, int c) {
   int i = lpv_index(q, x, c, 0);
   return vec4(acc[i], acc[i + 1], acc[i + 2], acc[i + 3]);
+}
+
+// The DC terms of cell x summed over the colour channels.
+float dc(int q, ivec3 x) {
+  return acc[lpv_index(q, x, 0, 0)] + acc[lpv_index(q, x, 1, 0)] + acc[lpv_index(q, x, 2, 0)];
 }
 
 // Cascade q's light at world point p, trilinear between cell centres, clamped to the outer
@@ -53,4 +61,12 @@ void main() {
     if (w < 1.0) v = w * v + (1.0 - w) * scale * trilinear(q + 1, centre, c);
     imageStore(accum, ivec3(x.x + c * n, x.y, q * n + x.z), v);
   }
+  vec3 gradient;
+  for (int a = 0; a < 3; ++a) {
+    ivec3 up = x, down = x;
+    up[a] = min(x[a] + 1, n - 1);
+    down[a] = max(x[a] - 1, 0);
+    gradient[a] = (dc(q, up) - dc(q, down)) / float(up[a] - down[a]);
+  }
+  imageStore(accum, ivec3(x.x + 3 * n, x.y, q * n + x.z), vec4(gradient, dc(q, x)));
 }

@@ -6,7 +6,8 @@
 // irradiance of a surface with normal n gathers the light moving along −n:
 // E(n) = (π·Y0·c0 − (2π/3)·√(3/4π)·c·n)/s² = (√π/2·c0 − √(π/3)·c·n)/s². A point takes the
 // finest cascade holding it, whose cells near its border hold its light blended into the next
-// coarser cascade's (lpv_resolve.comp), so the border leaves no seam.
+// coarser cascade's (lpv_resolve.comp), so the border leaves no seam. A fourth part holds the
+// DC sum's gradient for the leak dampening.
 // Must match LpvInputUniforms in techniques/lpv.cpp.
 #ifndef ILLUM_INPUT_LPV_GLSL
 #define ILLUM_INPUT_LPV_GLSL
@@ -15,7 +16,7 @@ layout(std140, set = kInputsSet, binding = kLpvInputBase) uniform LpvInput {
   vec4 lo[4];   // per cascade: xyz its min corner; w its cell size s (past the last: the last)
   vec4 slot;    // per cascade: the z of its part of the atlas, in texture coordinates
   ivec4 info;   // x: cells per axis; y: cascades
-  vec4 params;  // x: amplification
+  vec4 params;  // x: amplification; y: dampening
 } lpv_input;
 layout(set = kInputsSet, binding = kLpvInputBase + 1) uniform sampler3D lpv_accum;
 
@@ -49,12 +50,16 @@ vec3 lpv_irradiance(vec3 p, vec3 n) {
   vec3 t = clamp((p - box.xyz) / box.w, vec3(0.5), vec3(cells - 0.5)) / cells;
   t.z = slot + t.z / float(lpv_input.info.y);
   // The three channels written out: a loop storing e[c] crashed that compiler too.
-  vec4 r = textureLod(lpv_accum, vec3(t.x / 3.0, t.yz), 0.0);
-  vec4 g = textureLod(lpv_accum, vec3((t.x + 1.0) / 3.0, t.yz), 0.0);
-  vec4 b = textureLod(lpv_accum, vec3((t.x + 2.0) / 3.0, t.yz), 0.0);
+  vec4 r = textureLod(lpv_accum, vec3(t.x * 0.25, t.yz), 0.0);
+  vec4 g = textureLod(lpv_accum, vec3((t.x + 1.0) * 0.25, t.yz), 0.0);
+  vec4 b = textureLod(lpv_accum, vec3((t.x + 2.0) * 0.25, t.yz), 0.0);
   vec3 e = 0.886226925452758 * vec3(r.x, g.x, b.x) -
            1.0233267079464885 * vec3(dot(r.yzw, n), dot(g.yzw, n), dot(b.yzw, n));
-  return max(e, vec3(0.0)) / (box.w * box.w);
+  // Leak dampening: light growing towards the back of the surface (derivative of the DC sum
+  // along n below 0, per cell) came through it; scale by 1 + dampening·derivative/sum.
+  vec4 d = textureLod(lpv_accum, vec3((t.x + 3.0) * 0.25, t.yz), 0.0);
+  float damp = clamp(1.0 + lpv_input.params.y * min(dot(d.xyz, n), 0.0) / max(d.w, 1e-20), 0.0, 1.0);
+  return max(e, vec3(0.0)) * (damp / (box.w * box.w));
 }
 
 void input_lpv(Surface s, int draw, vec2 frag, inout LightingTerms t) {

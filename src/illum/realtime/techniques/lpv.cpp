@@ -53,7 +53,7 @@ struct LpvInputUniforms {
   std::array<glm::vec4, kMaxCascades> lo;  // as LpvUniforms::lo; past the last cascade, the last
   glm::vec4 slot;                          // per cascade: its atlas part's z, texture coordinates
   glm::ivec4 info;                         // x: cells per axis; y: cascades
-  glm::vec4 params;                        // x: amplification
+  glm::vec4 params;                        // x: amplification; y: dampening
 };
 static_assert(sizeof(LpvInputUniforms) == 112);
 
@@ -151,7 +151,7 @@ class Lpv final : public Technique {
                                 source_, part));
     ResourceDesc r;
     r.name = kAccum;
-    r.width = 3 * n_;  // R, G and B parts side by side
+    r.width = 4 * n_;  // R, G and B parts side by side, then the DC sum's gradient
     r.height = n_;
     r.depth = n_ * cascades_;  // the cascades one after the other
     r.format = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -257,7 +257,7 @@ class Lpv final : public Technique {
       in.slot[int(k)] = static_cast<float>(q) / static_cast<float>(cascades_);
     }
     in.info = glm::ivec4(static_cast<int>(n_), static_cast<int>(cascades_), 0, 0);
-    in.params = vec4(param<float>("amplification"), 0.0f, 0.0f, 0.0f);
+    in.params = vec4(param<float>("amplification"), param<float>("dampening"), 0.0f, 0.0f);
     input_uniforms_.write(&in, sizeof(in));
   }
 
@@ -379,6 +379,9 @@ TechniqueDecl lpv_technique() {
                 "cascade k is rebuilt in frames f with f = k (mod this), the others keep their "
                 "light; a rebuild moves the looked-up light halfway"),
       float_param("amplification", 1.0f, 0.0f, 100.0f, "scales the indirect term"),
+      float_param("dampening", 1.0f, 0.0f, 4.0f,
+                  "scales down light that grows towards the back of a surface (came through "
+                  "it): 1 + dampening·(derivative along the normal)/value; 0: off"),
       string_param("source", "rsm",
                    "the maps injected: SOURCE.position, .normal, .flux and .views, laid out "
                    "as the reflective shadow maps' (rsm_views.h)")
