@@ -18,18 +18,10 @@ namespace {
 
 class CliGi : public CliTest {
  protected:
-  // run_command with the line built by appending (GCC 12's false -Warray-bounds on run()'s
-  // concatenation, as in cli_lpv_test.cpp).
-  Result illum(const std::string& args) {
-    std::string command = ILLUM_BINARY_DIR;
-    command += "/bin/illum ";
-    command += args;
-    return run_command(command);
-  }
   // Writes `illum ARGS -o NAME.exr` and returns the image.
   illum::Image exr(const std::string& args, const std::string& name) {
     const std::string path = (dir_ / (name + ".exr")).string();
-    const Result r = illum(args + " -o " + path);
+    const Result r = run(args + " -o " + path);
     EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
     return r.exit_code == 0 ? illum::read_image(path) : illum::Image();
   }

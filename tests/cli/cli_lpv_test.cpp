@@ -8,17 +8,7 @@
 namespace illum_cli_test {
 namespace {
 
-class CliLpv : public CliTest {
- protected:
-  // run() with the command built by appending: GCC 12 reports a false -Warray-bounds on
-  // run()'s concatenation as inlined in this file.
-  Result illum(const std::string& args) {
-    std::string command = ILLUM_BINARY_DIR;
-    command += "/bin/illum ";
-    command += args;
-    return run_command(command);
-  }
-};
+class CliLpv : public CliTest {};
 
 // `illum frame` exists only where the GPU layers are built (not in the asan tree).
 #ifdef ILLUM_HAVE_GPU
@@ -26,7 +16,7 @@ TEST_F(CliLpv, FrameRunsTheVolume) {
   std::string command =
       "frame cornell --width 32 --height 32 --enable lpv -p lpv.grid=16 -p lpv.cascades=2 -o ";
   command += (dir_ / "lpv.png").string();
-  const Result r = illum(command);
+  const Result r = run(command);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "lpv.png"));
   EXPECT_NE(r.out.find("lpv.propagate"), std::string::npos) << r.out;
@@ -34,16 +24,16 @@ TEST_F(CliLpv, FrameRunsTheVolume) {
 
 TEST_F(CliLpv, AnUndeclaredSourceIsOneLineExitTwo) {
   std::string command = "frame cornell --width 16 --height 16 --enable lpv -p lpv.source=nothing";
-  const Result grid = illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.grid=24");
+  const Result grid = run("frame cornell --width 16 --height 16 --enable lpv -p lpv.grid=24");
   expect_bad_input(grid, "-p lpv.grid=24: 16, 32 or 64");
   const Result cascades =
-      illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.cascades=5");
+      run("frame cornell --width 16 --height 16 --enable lpv -p lpv.cascades=5");
   expect_bad_input(cascades, "parameter 'lpv.cascades' = 5 is outside [1, 4]");
   const Result period =
-      illum("frame cornell --width 16 --height 16 --enable lpv -p lpv.update_period=0");
+      run("frame cornell --width 16 --height 16 --enable lpv -p lpv.update_period=0");
   expect_bad_input(period, "parameter 'lpv.update_period' = 0 is outside [1, 8]");
   command += " -o " + (dir_ / "f.png").string();
-  const Result r = illum(command);
+  const Result r = run(command);
   expect_bad_input(r, "-p lpv.source=nothing: nothing in this frame declares 'nothing.position'");
   EXPECT_FALSE(fs::exists(dir_ / "f.png"));
 }

@@ -8,17 +8,7 @@
 namespace illum_cli_test {
 namespace {
 
-class CliVpl : public CliTest {
- protected:
-  // run() with the command built by appending (GCC 12's false -Warray-bounds on run()'s
-  // concatenation, as in cli_lpv_test.cpp).
-  Result illum(const std::string& args) {
-    std::string command = ILLUM_BINARY_DIR;
-    command += "/bin/illum ";
-    command += args;
-    return run_command(command);
-  }
-};
+class CliVpl : public CliTest {};
 
 // `illum frame` exists only where the GPU layers are built (not in the asan tree).
 #ifdef ILLUM_HAVE_GPU
@@ -26,7 +16,7 @@ TEST_F(CliVpl, FrameRunsTheVirtualPointLights) {
   std::string command =
       "frame cornell-spot --width 32 --height 32 --enable vpl -p vpl.count=64 -p vpl.clamp=0.1 -o ";
   command += (dir_ / "vpl.png").string();
-  const Result r = illum(command);
+  const Result r = run(command);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "vpl.png"));
   EXPECT_NE(r.out.find("vpl.build"), std::string::npos) << r.out;
@@ -35,11 +25,11 @@ TEST_F(CliVpl, FrameRunsTheVirtualPointLights) {
 TEST_F(CliVpl, BadCountSourceOrPipelineIsOneLineExitTwo) {
   const std::string out = " -o " + (dir_ / "f.png").string();
   std::string base = "frame cornell-spot --width 16 --height 16 --enable vpl ";
-  expect_bad_input(illum(base + "-p vpl.count=100" + out),
+  expect_bad_input(run(base + "-p vpl.count=100" + out),
                    "-p vpl.count=100: one of 64, 256, 1024, 4096");
-  expect_bad_input(illum(base + "-p vpl.source=nothing" + out),
+  expect_bad_input(run(base + "-p vpl.source=nothing" + out),
                    "-p vpl.source=nothing: nothing in this frame declares 'nothing.position'");
-  expect_bad_input(illum(base + "-t deferred" + out),
+  expect_bad_input(run(base + "-t deferred" + out),
                    "vpl: the deferred pipeline applies screen-space lighting inputs' occlusion "
                    "only, not an indirect term; use -t forward or visibility");
   EXPECT_FALSE(fs::exists(dir_ / "f.png"));
